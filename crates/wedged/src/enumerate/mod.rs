@@ -1,0 +1,293 @@
+//! Enumeration of the 2D solution set: the complementary extreme rays of `C` and the maximal
+//! cross-complementary sets of them (MISSION sections 3 and 4).
+//!
+//! Three methods find the rays; they share the finishing step in this file, which recomputes each
+//! ray from its tight constraints, checks it ([`crate::verify`]), puts the rays in canonical order
+//! and finds the maximal cliques ([`crate::cliques`]).
+//!
+//! - [`Method::PrunedDd`] (`pruned_dd.rs`): the seed's algorithm, the default.
+//! - [`Method::FullDd`] (`full_dd.rs`): all extreme rays of `C` by double description, then a
+//!   complementarity filter.
+//! - [`Method::Faces`] (`faces.rs`): brute force over the `2^m` contact sets.
+
+mod faces;
+mod full_dd;
+mod pruned_dd;
+
+use std::fmt;
+use std::time::Instant;
+
+use crate::cliques::maximal_cliques;
+use crate::problem::Problem;
+use crate::verify::{polish_and_verify, VerifyError};
+
+/// Which algorithm finds the complementary extreme rays.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Method {
+    /// The seed's pruned double description (MISSION section 4). The default.
+    #[default]
+    PrunedDd,
+    /// Plain double description of every extreme ray of `C`, then a complementarity filter.
+    FullDd,
+    /// Brute force over the `2^m` contact sets, the extreme rays of each face.
+    Faces,
+}
+
+impl Method {
+    /// The name used on the command line and in JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::PrunedDd => "pruned-dd",
+            Method::FullDd => "full-dd",
+            Method::Faces => "faces",
+        }
+    }
+
+    /// Every method, in a fixed order.
+    pub const ALL: [Method; 3] = [Method::PrunedDd, Method::FullDd, Method::Faces];
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Tuning of an enumeration. Every field has a documented default.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settings {
+    /// The algorithm. Default [`Method::PrunedDd`].
+    pub method: Method,
+    /// Relative zero tolerance. A value `x = sum_k a_k b_k` is taken as zero when
+    /// `|x| <= zero_tol * sum_k |a_k b_k|`, so decisions do not depend on the scale of `K`; the
+    /// same number is the relative threshold of the rank decisions. Default `1e-9`.
+    pub zero_tol: f64,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings { method: Method::PrunedDd, zero_tol: 1e-9 }
+    }
+}
+
+/// The status of one contact node in one solution (MISSION section 2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum NodeStatus {
+    /// `u_n > 0`, `r = 0`.
+    Separated,
+    /// `u_n = 0`, `|r_t| < mu r_n`.
+    Stick,
+    /// `u_n = 0`, `r_t = +mu r_n > 0`.
+    SlipPlus,
+    /// `u_n = 0`, `r_t = -mu r_n < 0`.
+    SlipMinus,
+    /// `u_n = 0`, `r = 0`.
+    Grazing,
+}
+
+impl NodeStatus {
+    /// The name used in tables and JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            NodeStatus::Separated => "separated",
+            NodeStatus::Stick => "stick",
+            NodeStatus::SlipPlus => "slip+",
+            NodeStatus::SlipMinus => "slip-",
+            NodeStatus::Grazing => "grazing",
+        }
+    }
+
+    /// `u_n > 0` in this status.
+    pub fn gap_open(self) -> bool {
+        self == NodeStatus::Separated
+    }
+
+    /// `r_n > 0` in this status.
+    pub fn pressed(self) -> bool {
+        matches!(self, NodeStatus::Stick | NodeStatus::SlipPlus | NodeStatus::SlipMinus)
+    }
+}
+
+/// The contact pattern of one node over a whole convex piece `C_B`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum ContactPattern {
+    /// `u_n = 0` throughout, `r_n > 0` in the relative interior.
+    Contact,
+    /// `r = 0` throughout, `u_n > 0` in the relative interior.
+    Separated,
+    /// `u_n = 0` and `r = 0` throughout.
+    Grazing,
+}
+
+impl ContactPattern {
+    /// The name used in tables and JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            ContactPattern::Contact => "contact",
+            ContactPattern::Separated => "separated",
+            ContactPattern::Grazing => "grazing",
+        }
+    }
+}
+
+/// A complementary extreme ray of `C`: a wedged configuration, normalised to `sum r_n = 1`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ray {
+    /// Displacements, `dim*m`, in the local node frames.
+    pub u: Vec<f64>,
+    /// Reactions, `dim*m`, in the local node frames; `sum r_n = 1`.
+    pub r: Vec<f64>,
+    /// Per-node status.
+    pub status: Vec<NodeStatus>,
+}
+
+/// A maximal cross-complementary set of rays: every nonnegative combination of them is a
+/// solution, with the same contact pattern.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Cone {
+    /// Indices into [`Enumeration::rays`], increasing.
+    pub rays: Vec<usize>,
+    /// Per-node pattern of the piece.
+    pub pattern: Vec<ContactPattern>,
+}
+
+/// How the run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    /// Complete; at least one wedged configuration exists.
+    Wedged,
+    /// Complete; only the trivial solution `(0, 0)` exists.
+    NotWedged,
+}
+
+/// Diagnostics of a run.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Info {
+    /// Rays held after each node was processed (pruned-dd, full-dd), in processing order.
+    pub rays_after_node: Vec<usize>,
+    /// The order in which the nodes were processed (0-based).
+    pub node_order: Vec<usize>,
+    /// Pairs of rays with opposite signs considered for combination.
+    pub pairs_tested: u64,
+    /// Pairs rejected because their combination would break complementarity (pruned-dd).
+    pub pairs_rejected_pattern: u64,
+    /// Pairs rejected by counting or by the combinatorial test.
+    pub pairs_rejected_combinatorial: u64,
+    /// Algebraic adjacency (rank) tests performed.
+    pub adjacency_tests: u64,
+    /// New rays created by combining adjacent pairs.
+    pub rays_created: u64,
+    /// Largest number of rays held at once.
+    pub peak_rays: usize,
+    /// Candidate tight sets examined (faces).
+    pub candidates: u64,
+    /// Extreme rays of `C` found before the complementarity filter (full-dd).
+    pub extreme_rays_total: usize,
+    /// Wall-clock seconds for the whole run.
+    pub seconds: f64,
+}
+
+/// The result of [`enumerate`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Enumeration {
+    /// Whether wedged configurations exist.
+    pub outcome: Outcome,
+    /// The complementary extreme rays, in canonical order (by status vector).
+    pub rays: Vec<Ray>,
+    /// The maximal cross-complementary sets, in canonical order.
+    pub cones: Vec<Cone>,
+    /// Diagnostics.
+    pub info: Info,
+}
+
+/// Why an enumeration could not give an answer.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum EnumerateError {
+    /// The enumeration of patterns by rays is the 2D algorithm; 3D goes through sign patterns.
+    #[error("enumeration of rays needs dim = 2, the problem has dim = {0}")]
+    UnsupportedDim(usize),
+    /// A setting is out of range.
+    #[error("invalid setting: {0}")]
+    InvalidSettings(String),
+    /// A ray failed its check before output: floating point could not be trusted here.
+    #[error("a computed ray failed verification, so no answer is given: {0}")]
+    Verification(#[from] VerifyError),
+}
+
+/// What a method hands to the finishing step: a ray's reactions (any positive scale) and the
+/// per-node status that the method decided for it.
+#[derive(Debug, Clone)]
+pub(crate) struct RawRay {
+    pub r: Vec<f64>,
+    pub status: Vec<NodeStatus>,
+}
+
+/// Enumerates the complementary extreme rays and the maximal cross-complementary sets of a 2D
+/// problem.
+pub fn enumerate(problem: &Problem, settings: &Settings) -> Result<Enumeration, EnumerateError> {
+    if problem.dim() != 2 {
+        return Err(EnumerateError::UnsupportedDim(problem.dim()));
+    }
+    if !(settings.zero_tol > 0.0 && settings.zero_tol < 1e-2) {
+        return Err(EnumerateError::InvalidSettings(format!(
+            "zero_tol must be in (0, 0.01), got {}",
+            settings.zero_tol
+        )));
+    }
+    let start = Instant::now();
+    let mut info = Info::default();
+    let raw = match settings.method {
+        Method::PrunedDd => pruned_dd::run(problem, settings, &mut info),
+        Method::FullDd => full_dd::run(problem, settings, &mut info),
+        Method::Faces => faces::run(problem, settings, &mut info),
+    };
+    let mut rays = Vec::with_capacity(raw.len());
+    for raw_ray in raw {
+        rays.push(polish_and_verify(problem, &raw_ray.r, raw_ray.status, settings.zero_tol)?);
+    }
+    rays.sort_by(|a, b| a.status.cmp(&b.status));
+    rays.dedup_by(|a, b| a.status == b.status);
+    let cones = cones_of(&rays);
+    info.seconds = start.elapsed().as_secs_f64();
+    let outcome = if rays.is_empty() { Outcome::NotWedged } else { Outcome::Wedged };
+    Ok(Enumeration { outcome, rays, cones, info })
+}
+
+/// Two rays are cross-complementary when their sum is complementary at every node.
+pub fn cross_complementary(a: &[NodeStatus], b: &[NodeStatus]) -> bool {
+    a.iter().zip(b).all(|(&x, &y)| {
+        let gap = x.gap_open() || y.gap_open();
+        let pressed = x.pressed() || y.pressed();
+        !(gap && pressed)
+    })
+}
+
+/// The maximal cross-complementary sets of `rays`, each with its pattern, in canonical order.
+fn cones_of(rays: &[Ray]) -> Vec<Cone> {
+    let p = rays.len();
+    let adjacent: Vec<Vec<bool>> = (0..p)
+        .map(|i| {
+            (0..p).map(|j| i != j && cross_complementary(&rays[i].status, &rays[j].status)).collect()
+        })
+        .collect();
+    let mut cones: Vec<Cone> = maximal_cliques(p, |i, j| adjacent[i][j])
+        .into_iter()
+        .map(|members| {
+            let m = rays.first().map_or(0, |r| r.status.len());
+            let pattern = (0..m)
+                .map(|k| {
+                    if members.iter().any(|&i| rays[i].status[k].pressed()) {
+                        ContactPattern::Contact
+                    } else if members.iter().any(|&i| rays[i].status[k].gap_open()) {
+                        ContactPattern::Separated
+                    } else {
+                        ContactPattern::Grazing
+                    }
+                })
+                .collect();
+            Cone { rays: members, pattern }
+        })
+        .collect();
+    cones.sort_by(|a, b| a.rays.cmp(&b.rays));
+    cones
+}

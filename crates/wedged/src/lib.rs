@@ -1,0 +1,44 @@
+//! # wedged
+//!
+//! Every wedged configuration of a linear elastic body in frictional contact with a rigid
+//! obstacle, and (in later versions) the critical friction coefficient.
+//!
+//! The condensed wedged problem (WP), with `K` symmetric positive definite in local node frames
+//! (normal first) and `mu > 0`:
+//!
+//! ```text
+//! find u, r in R^{dm}:   K u = r,
+//!                        u_n >= 0,  r_n >= 0,  u_n . r_n = 0,
+//!                        ||r_t_i|| <= mu r_n_i    (i = 1..m)
+//! ```
+//!
+//! In 2D the solution set `S` is the union of finitely many polyhedral cones `C_B`, each spanned by
+//! complementary extreme rays of the cone `C` (WP without complementarity). [`enumerate`] lists
+//! those rays and the maximal index sets `B`.
+//!
+//! ```
+//! use wedged::{enumerate, Problem, Settings};
+//! use nalgebra::DMatrix;
+//! // One node: K_nn = 2, K_nt = 1, K_tt = 1. Wedging needs mu >= K_tt/|K_nt| = 1.
+//! let k = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 1.0]);
+//! let below = enumerate(&Problem::new(2, k.clone(), 0.9).unwrap(), &Settings::default()).unwrap();
+//! assert!(below.rays.is_empty());
+//! let above = enumerate(&Problem::new(2, k, 1.1).unwrap(), &Settings::default()).unwrap();
+//! assert_eq!(above.rays.len(), 1);
+//! assert_eq!(above.rays[0].status[0].name(), "slip-");
+//! ```
+//!
+//! The core does no file I/O and knows no file format; those live in the `wedged` binary.
+
+pub mod cliques;
+pub mod enumerate;
+pub mod examples;
+pub(crate) mod linalg;
+pub mod problem;
+pub mod verify;
+
+pub use enumerate::{
+    enumerate, Cone, ContactPattern, EnumerateError, Enumeration, Info, Method, NodeStatus,
+    Outcome, Ray, Settings,
+};
+pub use problem::{Problem, ProblemError};

@@ -1,0 +1,298 @@
+//! The wedged problem (WP) in its condensed form: a stiffness `K` on the contact nodes, in local
+//! frames, and a friction coefficient `mu`.
+//!
+//! ```text
+//! WP   find u, r in R^{dm}:  K u = r,
+//!      u_n >= 0, r_n >= 0, u_n . r_n = 0,   ||r_t_i|| <= mu r_n_i  (i = 1..m)
+//! ```
+//!
+//! Node `i` owns rows `dim*i .. dim*i + dim` of `K`, normal component first (2D `(n, t)`, 3D
+//! `(n, t1, t2)`). `u_n >= 0` is a move away from the obstacle; `r_n >= 0` is a push by the
+//! obstacle on the body.
+//!
+//! A [`Problem`] is validated once, when it is built: afterwards `K` is known to be finite,
+//! symmetric (it is symmetrised) and positive definite, and its inverse (the compliance) is at hand.
+
+use nalgebra::DMatrix;
+
+/// Relative asymmetry `|K_ij - K_ji| / max|K|` above which `K` is rejected as non-symmetric.
+///
+/// Matrices written by finite-element codes with 16 significant digits are symmetric far below
+/// this; a matrix written with 8 digits still passes. Below it, `K` is replaced by `(K + K^T)/2`.
+pub const SYMMETRY_TOLERANCE: f64 = 1e-8;
+
+/// A Cholesky pivot `d_j` with `d_j <= PIVOT_TOLERANCE * K_jj` means `K` is not (numerically)
+/// positive definite.
+pub const PIVOT_TOLERANCE: f64 = 1e-13;
+
+/// Why a stiffness matrix or friction coefficient was rejected. Row and column numbers in the
+/// messages are 1-based, as in Matrix Market files; nodes are 1-based too.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ProblemError {
+    /// `dim` must be 2 or 3.
+    #[error("dimension must be 2 or 3, got {0}")]
+    InvalidDim(usize),
+    /// `K` has no rows.
+    #[error("the stiffness matrix is empty")]
+    Empty,
+    /// `K` is not square.
+    #[error("the stiffness matrix is not square: {rows} rows, {cols} columns")]
+    NotSquare { rows: usize, cols: usize },
+    /// The size of `K` is not `dim * m`.
+    #[error("the stiffness matrix has size {size}, which is not a multiple of dim = {dim}")]
+    SizeNotMultiple { size: usize, dim: usize },
+    /// An entry of `K` is NaN or infinite.
+    #[error("the stiffness matrix has a non-finite entry {value} at row {row}, column {col}")]
+    NonFinite { row: usize, col: usize, value: f64 },
+    /// `K` is not symmetric within [`SYMMETRY_TOLERANCE`]; the worst entry is named.
+    #[error(
+        "the stiffness matrix is not symmetric: K[{row},{col}] = {value:e} but K[{col},{row}] = \
+         {transpose:e} (relative difference {relative:.2e} > {SYMMETRY_TOLERANCE:e})"
+    )]
+    NotSymmetric { row: usize, col: usize, value: f64, transpose: f64, relative: f64 },
+    /// The Cholesky factorisation of `K` failed at a pivot.
+    #[error(
+        "the stiffness matrix is not positive definite: Cholesky pivot {pivot} (node {node}, \
+         component {component}) is {value:e}; is enough of the body clamped?"
+    )]
+    NotPositiveDefinite { pivot: usize, node: usize, component: &'static str, value: f64 },
+    /// `mu` is not a finite positive number.
+    #[error("the friction coefficient mu must be finite and > 0, got {0}")]
+    InvalidMu(f64),
+}
+
+/// A validated wedged problem: `dim`, the symmetric positive definite `K` (in local node frames)
+/// and `mu`.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    dim: usize,
+    k: DMatrix<f64>,
+    /// `K^{-1}`, from the Cholesky factor.
+    compliance: DMatrix<f64>,
+    mu: f64,
+}
+
+/// The name of component `c` of a node block in dimension `dim`.
+pub fn component_name(dim: usize, c: usize) -> &'static str {
+    match (dim, c) {
+        (_, 0) => "n",
+        (2, _) => "t",
+        (_, 1) => "t1",
+        _ => "t2",
+    }
+}
+
+impl Problem {
+    /// Validates `K` and `mu` and builds the problem. `K` is symmetrised.
+    pub fn new(dim: usize, k: DMatrix<f64>, mu: f64) -> Result<Problem, ProblemError> {
+        if dim != 2 && dim != 3 {
+            return Err(ProblemError::InvalidDim(dim));
+        }
+        let (rows, cols) = k.shape();
+        if rows == 0 || cols == 0 {
+            return Err(ProblemError::Empty);
+        }
+        if rows != cols {
+            return Err(ProblemError::NotSquare { rows, cols });
+        }
+        if rows % dim != 0 {
+            return Err(ProblemError::SizeNotMultiple { size: rows, dim });
+        }
+        check_mu(mu)?;
+        for j in 0..cols {
+            for i in 0..rows {
+                let v = k[(i, j)];
+                if !v.is_finite() {
+                    return Err(ProblemError::NonFinite { row: i + 1, col: j + 1, value: v });
+                }
+            }
+        }
+        let scale = k.amax();
+        let mut worst: Option<(usize, usize, f64)> = None;
+        for i in 0..rows {
+            for j in (i + 1)..rows {
+                let rel = (k[(i, j)] - k[(j, i)]).abs() / scale.max(f64::MIN_POSITIVE);
+                if rel > SYMMETRY_TOLERANCE && worst.is_none_or(|w| rel > w.2) {
+                    worst = Some((i, j, rel));
+                }
+            }
+        }
+        if let Some((i, j, relative)) = worst {
+            return Err(ProblemError::NotSymmetric {
+                row: i + 1,
+                col: j + 1,
+                value: k[(i, j)],
+                transpose: k[(j, i)],
+                relative,
+            });
+        }
+        let k = (&k + k.transpose()) * 0.5;
+        let l = cholesky(&k).map_err(|(pivot, value)| ProblemError::NotPositiveDefinite {
+            pivot: pivot + 1,
+            node: pivot / dim + 1,
+            component: component_name(dim, pivot % dim),
+            value,
+        })?;
+        let compliance = inverse_from_cholesky(&l);
+        Ok(Problem { dim, k, compliance, mu })
+    }
+
+    /// The same body with another friction coefficient.
+    pub fn with_mu(&self, mu: f64) -> Result<Problem, ProblemError> {
+        check_mu(mu)?;
+        Ok(Problem { mu, ..self.clone() })
+    }
+
+    /// Space dimension, 2 or 3.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// Number of contact nodes `m`.
+    pub fn nodes(&self) -> usize {
+        self.k.nrows() / self.dim
+    }
+
+    /// The friction coefficient.
+    pub fn mu(&self) -> f64 {
+        self.mu
+    }
+
+    /// The (symmetrised) stiffness `K`, `dim*m` square.
+    pub fn stiffness(&self) -> &DMatrix<f64> {
+        &self.k
+    }
+
+    /// The compliance `K^{-1}`: `u = K^{-1} r`.
+    pub fn compliance(&self) -> &DMatrix<f64> {
+        &self.compliance
+    }
+
+    /// `u = K^{-1} r`.
+    pub fn displacement(&self, r: &[f64]) -> Vec<f64> {
+        let g = &self.compliance;
+        (0..g.nrows()).map(|i| (0..g.ncols()).map(|j| g[(i, j)] * r[j]).sum()).collect()
+    }
+
+    /// The problem with its nodes reordered: new node `a` is old node `order[a]`.
+    pub fn permuted(&self, order: &[usize]) -> Problem {
+        let d = self.dim;
+        let n = self.k.nrows();
+        assert_eq!(order.len() * d, n, "order must list every node once");
+        let idx = |a: usize| order[a / d] * d + a % d;
+        let k = DMatrix::from_fn(n, n, |i, j| self.k[(idx(i), idx(j))]);
+        let compliance = DMatrix::from_fn(n, n, |i, j| self.compliance[(idx(i), idx(j))]);
+        Problem { dim: d, k, compliance, mu: self.mu }
+    }
+}
+
+fn check_mu(mu: f64) -> Result<(), ProblemError> {
+    if mu.is_finite() && mu > 0.0 {
+        Ok(())
+    } else {
+        Err(ProblemError::InvalidMu(mu))
+    }
+}
+
+/// Lower Cholesky factor of a symmetric matrix, or the 0-based index and value of the first pivot
+/// that is not safely positive.
+fn cholesky(a: &DMatrix<f64>) -> Result<DMatrix<f64>, (usize, f64)> {
+    let n = a.nrows();
+    let mut l = DMatrix::<f64>::zeros(n, n);
+    for j in 0..n {
+        let mut d = a[(j, j)];
+        for k in 0..j {
+            d -= l[(j, k)] * l[(j, k)];
+        }
+        if d.is_nan() || d <= PIVOT_TOLERANCE * a[(j, j)].abs() {
+            return Err((j, d));
+        }
+        let ljj = d.sqrt();
+        l[(j, j)] = ljj;
+        for i in (j + 1)..n {
+            let mut s = a[(i, j)];
+            for k in 0..j {
+                s -= l[(i, k)] * l[(j, k)];
+            }
+            l[(i, j)] = s / ljj;
+        }
+    }
+    Ok(l)
+}
+
+/// `(L L^T)^{-1}`, symmetric by construction.
+fn inverse_from_cholesky(l: &DMatrix<f64>) -> DMatrix<f64> {
+    let n = l.nrows();
+    // Columns of L^{-1} by forward substitution, then G = L^{-T} L^{-1}.
+    let mut linv = DMatrix::<f64>::zeros(n, n);
+    for c in 0..n {
+        for i in c..n {
+            let mut s = if i == c { 1.0 } else { 0.0 };
+            for k in c..i {
+                s -= l[(i, k)] * linv[(k, c)];
+            }
+            linv[(i, c)] = s / l[(i, i)];
+        }
+    }
+    let g = linv.transpose() * &linv;
+    (&g + g.transpose()) * 0.5
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spd2() -> DMatrix<f64> {
+        DMatrix::from_row_slice(2, 2, &[2.0, 0.5, 0.5, 1.0])
+    }
+
+    #[test]
+    fn accepts_spd_and_inverts() {
+        let p = Problem::new(2, spd2(), 0.5).unwrap();
+        let prod = p.stiffness() * p.compliance();
+        assert!((prod - DMatrix::identity(2, 2)).amax() < 1e-14);
+        assert_eq!(p.nodes(), 1);
+    }
+
+    #[test]
+    fn each_error_is_named() {
+        use ProblemError::*;
+        assert_eq!(Problem::new(4, spd2(), 1.0).unwrap_err(), InvalidDim(4));
+        assert_eq!(Problem::new(2, DMatrix::zeros(0, 0), 1.0).unwrap_err(), Empty);
+        assert_eq!(
+            Problem::new(2, DMatrix::zeros(2, 3), 1.0).unwrap_err(),
+            NotSquare { rows: 2, cols: 3 }
+        );
+        assert_eq!(
+            Problem::new(2, DMatrix::identity(3, 3), 1.0).unwrap_err(),
+            SizeNotMultiple { size: 3, dim: 2 }
+        );
+        let mut k = spd2();
+        k[(1, 0)] = f64::NAN;
+        assert!(matches!(Problem::new(2, k, 1.0), Err(NonFinite { row: 2, col: 1, .. })));
+        let mut k = DMatrix::identity(4, 4);
+        k[(0, 3)] = 0.1;
+        k[(1, 2)] = 0.3;
+        k[(2, 1)] = 0.1;
+        k[(3, 0)] = 0.1;
+        assert!(matches!(Problem::new(2, k, 1.0), Err(NotSymmetric { row: 2, col: 3, .. })));
+        let k = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 1.0]);
+        assert!(matches!(
+            Problem::new(2, k, 1.0),
+            Err(NotPositiveDefinite { pivot: 2, node: 1, component: "t", .. })
+        ));
+        for mu in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert!(matches!(Problem::new(2, spd2(), mu), Err(InvalidMu(_))));
+        }
+    }
+
+    #[test]
+    fn permutation_moves_blocks() {
+        let k = DMatrix::from_fn(4, 4, |i, j| if i == j { 3.0 + i as f64 } else { 0.1 });
+        let p = Problem::new(2, k, 1.0).unwrap().permuted(&[1, 0]);
+        assert_eq!(p.stiffness()[(0, 0)], 5.0);
+        assert_eq!(p.stiffness()[(3, 3)], 4.0);
+        let prod = p.stiffness() * p.compliance();
+        assert!((prod - DMatrix::identity(4, 4)).amax() < 1e-14);
+    }
+}
