@@ -7,6 +7,9 @@
 /// with `i != j`; it must be symmetric). Each clique is sorted; the list is sorted. A vertex with
 /// no neighbour is a clique of its own.
 pub fn maximal_cliques(n: usize, adjacent: impl Fn(usize, usize) -> bool) -> Vec<Vec<usize>> {
+    if n == 0 {
+        return Vec::new();
+    }
     let words = n.div_ceil(64);
     let mut nbr = vec![0u64; n * words];
     for i in 0..n {
@@ -52,7 +55,12 @@ impl Graph {
         let mut pivot = usize::MAX;
         let mut best = -1i64;
         for v in ones(&p).chain(ones(&x)) {
-            let c: u32 = self.row(v).iter().zip(&p).map(|(a, b)| (a & b).count_ones()).sum();
+            let c: u32 = self
+                .row(v)
+                .iter()
+                .zip(&p)
+                .map(|(a, b)| (a & b).count_ones())
+                .sum();
             if c as i64 > best {
                 best = c as i64;
                 pivot = v;
@@ -75,7 +83,9 @@ impl Graph {
 
 fn ones(bits: &[u64]) -> impl Iterator<Item = usize> + '_ {
     bits.iter().enumerate().flat_map(|(w, &word)| {
-        (0..64).filter(move |b| word >> b & 1 == 1).map(move |b| w * 64 + b)
+        (0..64)
+            .filter(move |b| word >> b & 1 == 1)
+            .map(move |b| w * 64 + b)
     })
 }
 
@@ -87,9 +97,8 @@ mod tests {
     /// Brute force: every subset that is a clique and is not contained in a larger clique.
     fn brute(n: usize, adj: &dyn Fn(usize, usize) -> bool) -> Vec<Vec<usize>> {
         let is_clique = |s: u32| {
-            (0..n).all(|i| {
-                (0..n).all(|j| i == j || s >> i & 1 == 0 || s >> j & 1 == 0 || adj(i, j))
-            })
+            (0..n)
+                .all(|i| (0..n).all(|j| i == j || s >> i & 1 == 0 || s >> j & 1 == 0 || adj(i, j)))
         };
         let mut out = Vec::new();
         for s in 1u32..(1 << n) {
@@ -107,15 +116,9 @@ mod tests {
         for trial in 0..300 {
             let n = 1 + trial % 12;
             let density = rng.gen_range(0.1..0.9);
-            let mut a = vec![vec![false; n]; n];
-            for i in 0..n {
-                for j in (i + 1)..n {
-                    let e = rng.gen_bool(density);
-                    a[i][j] = e;
-                    a[j][i] = e;
-                }
-            }
-            let adj = |i: usize, j: usize| a[i][j];
+            // Upper triangle drawn, read symmetrically.
+            let upper: Vec<bool> = (0..n * n).map(|_| rng.gen_bool(density)).collect();
+            let adj = |i: usize, j: usize| upper[i.min(j) * n + i.max(j)];
             assert_eq!(maximal_cliques(n, adj), brute(n, &adj), "trial {trial}");
         }
     }

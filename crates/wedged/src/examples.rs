@@ -13,13 +13,13 @@ pub fn demo() -> Problem {
     let mut k = DMatrix::<f64>::zeros(2 * m, 2 * m);
     for i in 0..m {
         // A spring of stiffness s at angle theta to the wall adds s d d^T, d = (sin, cos).
-        let theta: f64 = if i < m / 2 { 0.35 } else { -0.35 };
+        let theta: f64 = if i < m / 2 { 0.9 } else { -0.9 };
         let (s, c) = theta.sin_cos();
-        let stiff = 2.0;
+        let stiff = 3.0;
         k[(2 * i, 2 * i)] += 1.0 + stiff * s * s;
         k[(2 * i, 2 * i + 1)] += stiff * s * c;
         k[(2 * i + 1, 2 * i)] += stiff * s * c;
-        k[(2 * i + 1, 2 * i + 1)] += 0.5 + stiff * c * c;
+        k[(2 * i + 1, 2 * i + 1)] += 0.1 + stiff * c * c;
     }
     for i in 0..m - 1 {
         // Shear springs between neighbouring nodes, on both components.
@@ -32,4 +32,24 @@ pub fn demo() -> Problem {
         }
     }
     Problem::new(2, k, 1.0).expect("the demo stiffness is symmetric positive definite")
+}
+
+/// A seeded random 2D problem with `K = A A^T + diag(d)`: `A` is `2m x 2m` with entries uniform
+/// in `[-1, 1)`, `d` uniform in `[0.05, 1)`. The generator is a fixed 64-bit LCG, so the problem
+/// depends on `seed` only (benchmarks and the CLI can name it).
+pub fn random_spd_problem(m: usize, mu: f64, seed: u64) -> Problem {
+    let n = 2 * m;
+    let mut state = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    let mut uniform = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let a = DMatrix::from_fn(n, n, |_, _| 2.0 * uniform() - 1.0);
+    let d = nalgebra::DVector::from_fn(n, |_, _| 0.05 + 0.95 * uniform());
+    let k = &a * a.transpose() + DMatrix::from_diagonal(&d);
+    Problem::new(2, k, mu).expect("A A^T + diag(d) with d > 0 is positive definite")
 }

@@ -25,7 +25,8 @@
 //! assert!(below.rays.is_empty());
 //! let above = enumerate(&Problem::new(2, k, 1.1).unwrap(), &Settings::default()).unwrap();
 //! assert_eq!(above.rays.len(), 1);
-//! assert_eq!(above.rays[0].status[0].name(), "slip-");
+//! // u = (0, u_t), r = (1, 1) u_t: |r_t| < mu r_n, the node sticks.
+//! assert_eq!(above.rays[0].status[0].name(), "stick");
 //! ```
 //!
 //! The core does no file I/O and knows no file format; those live in the `wedged` binary.

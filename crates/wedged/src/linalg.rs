@@ -83,7 +83,11 @@ mod tests {
         let mut a = vec![1.0, 2.0, 3.0, 2.0, 4.0, 6.0, 1.0, 0.0, 1.0];
         assert_eq!(rank(&mut a, 3, 3, 1e-12), 2);
         let mut b = vec![1e-20, 0.0, 0.0, 5e8];
-        assert_eq!(rank(&mut b, 2, 2, 1e-12), 2, "row scaling makes tiny rows count");
+        assert_eq!(
+            rank(&mut b, 2, 2, 1e-12),
+            2,
+            "row scaling makes tiny rows count"
+        );
         let mut c = vec![0.0; 6];
         assert_eq!(rank(&mut c, 2, 3, 1e-12), 0);
         let mut d = vec![1.0, 1.0, 1.0, 1.0 + 1e-14];

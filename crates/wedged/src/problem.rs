@@ -49,13 +49,24 @@ pub enum ProblemError {
         "the stiffness matrix is not symmetric: K[{row},{col}] = {value:e} but K[{col},{row}] = \
          {transpose:e} (relative difference {relative:.2e} > {SYMMETRY_TOLERANCE:e})"
     )]
-    NotSymmetric { row: usize, col: usize, value: f64, transpose: f64, relative: f64 },
+    NotSymmetric {
+        row: usize,
+        col: usize,
+        value: f64,
+        transpose: f64,
+        relative: f64,
+    },
     /// The Cholesky factorisation of `K` failed at a pivot.
     #[error(
         "the stiffness matrix is not positive definite: Cholesky pivot {pivot} (node {node}, \
          component {component}) is {value:e}; is enough of the body clamped?"
     )]
-    NotPositiveDefinite { pivot: usize, node: usize, component: &'static str, value: f64 },
+    NotPositiveDefinite {
+        pivot: usize,
+        node: usize,
+        component: &'static str,
+        value: f64,
+    },
     /// `mu` is not a finite positive number.
     #[error("the friction coefficient mu must be finite and > 0, got {0}")]
     InvalidMu(f64),
@@ -103,7 +114,11 @@ impl Problem {
             for i in 0..rows {
                 let v = k[(i, j)];
                 if !v.is_finite() {
-                    return Err(ProblemError::NonFinite { row: i + 1, col: j + 1, value: v });
+                    return Err(ProblemError::NonFinite {
+                        row: i + 1,
+                        col: j + 1,
+                        value: v,
+                    });
                 }
             }
         }
@@ -134,7 +149,12 @@ impl Problem {
             value,
         })?;
         let compliance = inverse_from_cholesky(&l);
-        Ok(Problem { dim, k, compliance, mu })
+        Ok(Problem {
+            dim,
+            k,
+            compliance,
+            mu,
+        })
     }
 
     /// The same body with another friction coefficient.
@@ -171,7 +191,9 @@ impl Problem {
     /// `u = K^{-1} r`.
     pub fn displacement(&self, r: &[f64]) -> Vec<f64> {
         let g = &self.compliance;
-        (0..g.nrows()).map(|i| (0..g.ncols()).map(|j| g[(i, j)] * r[j]).sum()).collect()
+        (0..g.nrows())
+            .map(|i| (0..g.ncols()).map(|j| g[(i, j)] * r[j]).sum())
+            .collect()
     }
 
     /// The problem with its nodes reordered: new node `a` is old node `order[a]`.
@@ -182,7 +204,12 @@ impl Problem {
         let idx = |a: usize| order[a / d] * d + a % d;
         let k = DMatrix::from_fn(n, n, |i, j| self.k[(idx(i), idx(j))]);
         let compliance = DMatrix::from_fn(n, n, |i, j| self.compliance[(idx(i), idx(j))]);
-        Problem { dim: d, k, compliance, mu: self.mu }
+        Problem {
+            dim: d,
+            k,
+            compliance,
+            mu: self.mu,
+        }
     }
 }
 
@@ -258,7 +285,10 @@ mod tests {
     fn each_error_is_named() {
         use ProblemError::*;
         assert_eq!(Problem::new(4, spd2(), 1.0).unwrap_err(), InvalidDim(4));
-        assert_eq!(Problem::new(2, DMatrix::zeros(0, 0), 1.0).unwrap_err(), Empty);
+        assert_eq!(
+            Problem::new(2, DMatrix::zeros(0, 0), 1.0).unwrap_err(),
+            Empty
+        );
         assert_eq!(
             Problem::new(2, DMatrix::zeros(2, 3), 1.0).unwrap_err(),
             NotSquare { rows: 2, cols: 3 }
@@ -269,17 +299,28 @@ mod tests {
         );
         let mut k = spd2();
         k[(1, 0)] = f64::NAN;
-        assert!(matches!(Problem::new(2, k, 1.0), Err(NonFinite { row: 2, col: 1, .. })));
+        assert!(matches!(
+            Problem::new(2, k, 1.0),
+            Err(NonFinite { row: 2, col: 1, .. })
+        ));
         let mut k = DMatrix::identity(4, 4);
         k[(0, 3)] = 0.1;
         k[(1, 2)] = 0.3;
         k[(2, 1)] = 0.1;
         k[(3, 0)] = 0.1;
-        assert!(matches!(Problem::new(2, k, 1.0), Err(NotSymmetric { row: 2, col: 3, .. })));
+        assert!(matches!(
+            Problem::new(2, k, 1.0),
+            Err(NotSymmetric { row: 2, col: 3, .. })
+        ));
         let k = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 1.0]);
         assert!(matches!(
             Problem::new(2, k, 1.0),
-            Err(NotPositiveDefinite { pivot: 2, node: 1, component: "t", .. })
+            Err(NotPositiveDefinite {
+                pivot: 2,
+                node: 1,
+                component: "t",
+                ..
+            })
         ));
         for mu in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             assert!(matches!(Problem::new(2, spd2(), mu), Err(InvalidMu(_))));

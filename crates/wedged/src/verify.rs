@@ -16,19 +16,33 @@ use crate::problem::Problem;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum VerifyError {
     /// The tight constraints of the status do not determine a single ray.
-    #[error("ray [{status}]: its tight constraints have rank {rank}, an extreme ray needs {needed}")]
-    NotExtreme { status: String, rank: usize, needed: usize },
+    #[error(
+        "ray [{status}]: its tight constraints have rank {rank}, an extreme ray needs {needed}"
+    )]
+    NotExtreme {
+        status: String,
+        rank: usize,
+        needed: usize,
+    },
     /// The method's ray and the ray recomputed from the tight constraints differ.
     #[error("ray [{status}]: the computed ray and the one recomputed from its tight constraints differ by {difference:e}")]
     Mismatch { status: String, difference: f64 },
     /// A constraint or the claimed status fails at a node (1-based).
     #[error("ray [{status}]: node {node}: {what}")]
-    Violated { status: String, node: usize, what: String },
+    Violated {
+        status: String,
+        node: usize,
+        what: String,
+    },
 }
 
 /// The status vector as text, for messages.
 pub fn status_text(status: &[NodeStatus]) -> String {
-    status.iter().map(|s| s.name()).collect::<Vec<_>>().join(" ")
+    status
+        .iter()
+        .map(|s| s.name())
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// The rows of the constraints that `status` makes tight, in `r`-space (`u = K^{-1} r`).
@@ -106,11 +120,21 @@ pub fn polish_and_verify(
         .map(|(p, q)| (p - q / raw_scale).abs())
         .fold(0.0f64, f64::max);
     // The raw ray comes out of repeated combinations; it must agree to far better than this.
-    if !(raw_scale > 0.0) || !(difference <= 1e-6 * polished.iter().fold(0.0f64, |m, x| m.max(x.abs()))) {
-        return Err(VerifyError::Mismatch { status: status_text(&status), difference });
+    // (Written so that a NaN fails too.)
+    let agrees =
+        raw_scale > 0.0 && difference <= 1e-6 * polished.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if !agrees {
+        return Err(VerifyError::Mismatch {
+            status: status_text(&status),
+            difference,
+        });
     }
     let u = problem.displacement(&polished);
-    let ray = Ray { u, r: polished, status };
+    let ray = Ray {
+        u,
+        r: polished,
+        status,
+    };
     verify_ray(problem, &ray, tol)?;
     Ok(ray)
 }
@@ -140,7 +164,10 @@ pub fn verify_ray(problem: &Problem, ray: &Ray, tol: f64) -> Result<(), VerifyEr
         let ku: f64 = (0..n).map(|j| k[(i, j)] * ray.u[j]).sum();
         let scale: f64 = (0..n).map(|j| (k[(i, j)] * ray.u[j]).abs()).sum::<f64>() + ray.r[i].abs();
         if (ku - ray.r[i]).abs() > 1e3 * f64::EPSILON * n as f64 * scale.max(f64::MIN_POSITIVE) {
-            return Err(fail(i / 2, format!("equilibrium fails: (K u - r) = {:e}", ku - ray.r[i])));
+            return Err(fail(
+                i / 2,
+                format!("equilibrium fails: (K u - r) = {:e}", ku - ray.r[i]),
+            ));
         }
     }
     let total: f64 = ray.r.iter().step_by(2).sum();
@@ -164,12 +191,17 @@ pub fn verify_ray(problem: &Problem, ray: &Ray, tol: f64) -> Result<(), VerifyEr
             NodeStatus::Grazing => gap_zero && r_zero,
             NodeStatus::Stick => gap_zero && pressed && strict(slack_plus) && strict(slack_minus),
             NodeStatus::SlipPlus => gap_zero && pressed && tight(slack_plus) && strict(slack_minus),
-            NodeStatus::SlipMinus => gap_zero && pressed && strict(slack_plus) && tight(slack_minus),
+            NodeStatus::SlipMinus => {
+                gap_zero && pressed && strict(slack_plus) && tight(slack_minus)
+            }
         };
         if !ok {
             return Err(fail(
                 i,
-                format!("claimed {} but u_n = {un:e}, r_n = {rn:e}, r_t = {rt:e}", s.name()),
+                format!(
+                    "claimed {} but u_n = {un:e}, r_n = {rn:e}, r_t = {rt:e}",
+                    s.name()
+                ),
             ));
         }
     }

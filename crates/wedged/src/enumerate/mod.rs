@@ -5,14 +5,13 @@
 //! ray from its tight constraints, checks it ([`crate::verify`]), puts the rays in canonical order
 //! and finds the maximal cliques ([`crate::cliques`]).
 //!
-//! - [`Method::PrunedDd`] (`pruned_dd.rs`): the seed's algorithm, the default.
-//! - [`Method::FullDd`] (`full_dd.rs`): all extreme rays of `C` by double description, then a
-//!   complementarity filter.
+//! - [`Method::PrunedDd`] (`dd.rs`, pruned variant): the seed's algorithm, the default.
+//! - [`Method::FullDd`] (`dd.rs`, full variant): all extreme rays of `C` by double description,
+//!   then a complementarity filter.
 //! - [`Method::Faces`] (`faces.rs`): brute force over the `2^m` contact sets.
 
+mod dd;
 mod faces;
-mod full_dd;
-mod pruned_dd;
 
 use std::fmt;
 use std::time::Instant;
@@ -53,6 +52,9 @@ impl fmt::Display for Method {
     }
 }
 
+/// The most nodes [`Method::Faces`] accepts: it is exponential twice over, a test baseline.
+pub const FACES_MAX_NODES: usize = 16;
+
 /// Tuning of an enumeration. Every field has a documented default.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Settings {
@@ -66,7 +68,10 @@ pub struct Settings {
 
 impl Default for Settings {
     fn default() -> Self {
-        Settings { method: Method::PrunedDd, zero_tol: 1e-9 }
+        Settings {
+            method: Method::PrunedDd,
+            zero_tol: 1e-9,
+        }
     }
 }
 
@@ -104,7 +109,10 @@ impl NodeStatus {
 
     /// `r_n > 0` in this status.
     pub fn pressed(self) -> bool {
-        matches!(self, NodeStatus::Stick | NodeStatus::SlipPlus | NodeStatus::SlipMinus)
+        matches!(
+            self,
+            NodeStatus::Stick | NodeStatus::SlipPlus | NodeStatus::SlipMinus
+        )
     }
 }
 
@@ -234,23 +242,44 @@ pub fn enumerate(problem: &Problem, settings: &Settings) -> Result<Enumeration, 
             settings.zero_tol
         )));
     }
+    if settings.method == Method::Faces && problem.nodes() > FACES_MAX_NODES {
+        return Err(EnumerateError::InvalidSettings(format!(
+            "the faces method tries every one of the 2^m contact sets; m = {} is more than its \
+             limit of {FACES_MAX_NODES} (use pruned-dd)",
+            problem.nodes()
+        )));
+    }
     let start = Instant::now();
     let mut info = Info::default();
     let raw = match settings.method {
-        Method::PrunedDd => pruned_dd::run(problem, settings, &mut info),
-        Method::FullDd => full_dd::run(problem, settings, &mut info),
+        Method::PrunedDd => dd::run(problem, settings, &mut info, dd::Variant::Pruned),
+        Method::FullDd => dd::run(problem, settings, &mut info, dd::Variant::Full),
         Method::Faces => faces::run(problem, settings, &mut info),
     };
     let mut rays = Vec::with_capacity(raw.len());
     for raw_ray in raw {
-        rays.push(polish_and_verify(problem, &raw_ray.r, raw_ray.status, settings.zero_tol)?);
+        rays.push(polish_and_verify(
+            problem,
+            &raw_ray.r,
+            raw_ray.status,
+            settings.zero_tol,
+        )?);
     }
     rays.sort_by(|a, b| a.status.cmp(&b.status));
     rays.dedup_by(|a, b| a.status == b.status);
     let cones = cones_of(&rays);
     info.seconds = start.elapsed().as_secs_f64();
-    let outcome = if rays.is_empty() { Outcome::NotWedged } else { Outcome::Wedged };
-    Ok(Enumeration { outcome, rays, cones, info })
+    let outcome = if rays.is_empty() {
+        Outcome::NotWedged
+    } else {
+        Outcome::Wedged
+    };
+    Ok(Enumeration {
+        outcome,
+        rays,
+        cones,
+        info,
+    })
 }
 
 /// Two rays are cross-complementary when their sum is complementary at every node.
@@ -267,7 +296,9 @@ fn cones_of(rays: &[Ray]) -> Vec<Cone> {
     let p = rays.len();
     let adjacent: Vec<Vec<bool>> = (0..p)
         .map(|i| {
-            (0..p).map(|j| i != j && cross_complementary(&rays[i].status, &rays[j].status)).collect()
+            (0..p)
+                .map(|j| i != j && cross_complementary(&rays[i].status, &rays[j].status))
+                .collect()
         })
         .collect();
     let mut cones: Vec<Cone> = maximal_cliques(p, |i, j| adjacent[i][j])
@@ -285,7 +316,10 @@ fn cones_of(rays: &[Ray]) -> Vec<Cone> {
                     }
                 })
                 .collect();
-            Cone { rays: members, pattern }
+            Cone {
+                rays: members,
+                pattern,
+            }
         })
         .collect();
     cones.sort_by(|a, b| a.rays.cmp(&b.rays));

@@ -1,0 +1,630 @@
+//! Double description in `r`-space (`u = K^{-1} r`), for the seed's pruned method and the plain
+//! baseline.
+//!
+//! Step 1: the friction constraints alone give the product of `m` planar cones, whose `2m`
+//! extreme rays are `r = e_{n_i} +/- mu e_{t_i}`. Step 2: the constraints `u_n_i >= 0` are added one
+//! node at a time. For every ray `a` with `u_n_i > 0` and `b` with `u_n_i < 0` that are adjacent in
+//! the current cone, the point of `[a, b]` on `u_n_i = 0` becomes a new ray; then the rays with
+//! `u_n_i < 0` are dropped.
+//!
+//! [`Variant::Pruned`] (MISSION section 4) also
+//! - skips a pair whose combination would break complementarity at a processed node (filter (a));
+//! - drops every ray that breaks complementarity at a processed node;
+//! - and therefore decides adjacency **algebraically** (filter (b)): the constraints tight at both
+//!   rays must have rank `2m - 2`. The combinatorial test (no other held ray is tight on every
+//!   constraint common to `a` and `b`) is still sound as a filter that *rejects*, because every
+//!   held ray is an extreme ray of the current cone; after the deletions it can no longer accept.
+//!
+//! [`Variant::Full`] keeps every ray, so the combinatorial test is exact; complementarity is
+//! filtered at the end.
+//!
+//! Each ray carries its zero set (the constraints it is tight on) as a bitset. Zero sets are
+//! propagated combinatorially: a new ray from adjacent `a`, `b` is tight exactly on
+//! `Z(a) & Z(b)` plus the new constraint. The only floating-point decisions are the sign of
+//! `u_n_i` at each ray (relative tolerance, see [`Settings::zero_tol`]) and the rank test.
+
+use rayon::prelude::*;
+
+use super::{Info, NodeStatus, RawRay, Settings};
+use crate::linalg::rank;
+use crate::problem::Problem;
+
+/// Which double description runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Variant {
+    /// The seed's method: pattern filter, pruning, algebraic adjacency.
+    Pruned,
+    /// Every extreme ray of `C`, then a complementarity filter.
+    Full,
+}
+
+/// Constraint numbering in the zero sets: node `i` owns bits `3i` (`mu r_n - r_t >= 0`, tight at
+/// slip+), `3i + 1` (`mu r_n + r_t >= 0`, tight at slip-) and `3i + 2` (`u_n_i >= 0`).
+const PER_NODE: usize = 3;
+
+fn facet_plus(i: usize) -> usize {
+    PER_NODE * i
+}
+fn facet_minus(i: usize) -> usize {
+    PER_NODE * i + 1
+}
+fn gap_bit(i: usize) -> usize {
+    PER_NODE * i + 2
+}
+
+/// Rays held contiguously: reactions with stride `n = 2m`, zero sets with stride `words`, and two
+/// node masks with stride `node_words`: `gap` (node processed and `u_n > 0`) and `press`
+/// (`r_n > 0`). The masks make filter (a) two word operations per pair.
+struct Rays {
+    n: usize,
+    words: usize,
+    node_words: usize,
+    r: Vec<f64>,
+    z: Vec<u64>,
+    gap: Vec<u64>,
+    press: Vec<u64>,
+}
+
+impl Rays {
+    fn new(n: usize, words: usize, node_words: usize) -> Self {
+        Rays {
+            n,
+            words,
+            node_words,
+            r: Vec::new(),
+            z: Vec::new(),
+            gap: Vec::new(),
+            press: Vec::new(),
+        }
+    }
+    fn len(&self) -> usize {
+        self.r.len() / self.n
+    }
+    fn r(&self, a: usize) -> &[f64] {
+        &self.r[a * self.n..(a + 1) * self.n]
+    }
+    fn z(&self, a: usize) -> &[u64] {
+        &self.z[a * self.words..(a + 1) * self.words]
+    }
+    fn gap(&self, a: usize) -> &[u64] {
+        &self.gap[a * self.node_words..(a + 1) * self.node_words]
+    }
+    fn press(&self, a: usize) -> &[u64] {
+        &self.press[a * self.node_words..(a + 1) * self.node_words]
+    }
+    fn push(&mut self, r: &[f64], z: &[u64], gap: &[u64], press: &[u64]) {
+        self.r.extend_from_slice(r);
+        self.z.extend_from_slice(z);
+        self.gap.extend_from_slice(gap);
+        self.press.extend_from_slice(press);
+    }
+    fn append(&mut self, other: Rays) {
+        self.r.extend(other.r);
+        self.z.extend(other.z);
+        self.gap.extend(other.gap);
+        self.press.extend(other.press);
+    }
+}
+
+fn bit(z: &[u64], b: usize) -> bool {
+    z[b / 64] >> (b % 64) & 1 == 1
+}
+fn set_bit(z: &mut [u64], b: usize) {
+    z[b / 64] |= 1 << (b % 64);
+}
+
+/// Node `j` has `r_j = 0` in a ray with zero set `z` (both friction facets tight).
+fn r_zero(z: &[u64], j: usize) -> bool {
+    bit(z, facet_plus(j)) && bit(z, facet_minus(j))
+}
+
+/// The `press` mask of a zero set: nodes with `r_j != 0`.
+fn press_mask(z: &[u64], m: usize, node_words: usize) -> Vec<u64> {
+    let mut p = vec![0u64; node_words];
+    for j in (0..m).filter(|&j| !r_zero(z, j)) {
+        set_bit(&mut p, j);
+    }
+    p
+}
+
+/// Counters of one node's pair loop, summed over threads.
+#[derive(Default)]
+struct PairCounts {
+    pairs: u64,
+    pattern: u64,
+    combinatorial: u64,
+    rank_tests: u64,
+}
+
+/// Read-only data of one step.
+struct Step<'a> {
+    rays: &'a Rays,
+    value: &'a [f64],
+    tree: &'a PatternTree,
+    processed: &'a [usize],
+    gap_rows: &'a [f64],
+    node: usize,
+    m: usize,
+    mu: f64,
+    tol: f64,
+    variant: Variant,
+}
+
+impl Step<'_> {
+    /// The new rays from plus ray `a` and every minus ray (in the tree's leaf order). Subtrees
+    /// of the minus rays are skipped whole when filter (a) or the count fails for all of them.
+    fn combine(&self, a: usize, out: &mut Rays, counts: &mut PairCounts) {
+        let rays = self.rays;
+        let tree = self.tree;
+        let (n, words) = (rays.n, rays.words);
+        let mut common = vec![0u64; words];
+        let mut scratch = Vec::new();
+        let (za, ga, pa) = (rays.z(a), rays.gap(a), rays.press(a));
+        let pruned = self.variant == Variant::Pruned;
+        let mut stack = vec![0usize];
+        while let Some(t) = stack.pop() {
+            let node = &tree.nodes[t];
+            let size = (node.end - node.start) as u64;
+            // Filter (a) for the whole subtree: a gap of `a` where all of them press, or a
+            // pressure of `a` where all of them have a gap.
+            if pruned
+                && (ga.iter().zip(tree.and_press(t)).any(|(g, p)| g & p != 0)
+                    || tree.and_gap(t).iter().zip(pa).any(|(g, p)| g & p != 0))
+            {
+                counts.pairs += size;
+                counts.pattern += size;
+                continue;
+            }
+            // No ray of the subtree shares n - 2 tight constraints with `a`.
+            let shared: u32 = za
+                .iter()
+                .zip(tree.or_z(t))
+                .map(|(x, y)| (x & y).count_ones())
+                .sum();
+            if shared as usize + 2 < n {
+                counts.pairs += size;
+                counts.combinatorial += size;
+                continue;
+            }
+            if let Some((left, right)) = node.children {
+                stack.push(right);
+                stack.push(left);
+                continue;
+            }
+            for &b in &tree.items[node.start..node.end] {
+                counts.pairs += 1;
+                let (zb, gb, pb) = (rays.z(b), rays.gap(b), rays.press(b));
+                // Filter (a): the sum stays complementary at the processed nodes. Each ray is
+                // complementary on its own, so only a gap of one against a pressure of the other
+                // fails.
+                if pruned
+                    && ga
+                        .iter()
+                        .zip(pb)
+                        .chain(gb.iter().zip(pa))
+                        .any(|(g, p)| g & p != 0)
+                {
+                    counts.pattern += 1;
+                    continue;
+                }
+                let mut count = 0;
+                for w in 0..words {
+                    common[w] = za[w] & zb[w];
+                    count += common[w].count_ones() as usize;
+                }
+                // Rank n - 2 needs at least n - 2 tight constraints.
+                if count + 2 < n {
+                    counts.combinatorial += 1;
+                    continue;
+                }
+                self.emit(a, b, &common, out, counts, &mut scratch);
+            }
+        }
+    }
+
+    /// Decides adjacency of `a` and `b` (whose common zero set is `common`) and, if they are
+    /// adjacent, pushes their combination on `u_n_i = 0`.
+    fn emit(
+        &self,
+        a: usize,
+        b: usize,
+        common: &[u64],
+        out: &mut Rays,
+        counts: &mut PairCounts,
+        scratch: &mut Vec<f64>,
+    ) {
+        let rays = self.rays;
+        let adjacent = match self.variant {
+            // Every extreme ray of the current cone is held: the combinatorial test is exact.
+            Variant::Full => combinatorial_adjacent(rays, a, b, common),
+            // Rays were deleted: decide algebraically. (The combinatorial test would still be a
+            // sound rejection filter, but scanning every held ray costs more than the rank of the
+            // small matrix once thousands of rays are held.)
+            Variant::Pruned => {
+                counts.rank_tests += 1;
+                algebraic_adjacent(
+                    common,
+                    self.m,
+                    self.mu,
+                    self.processed,
+                    self.gap_rows,
+                    self.tol,
+                    scratch,
+                )
+            }
+        };
+        if !adjacent {
+            counts.combinatorial += (self.variant == Variant::Full) as u64;
+            return;
+        }
+        // The point of [a, b] on u_n_i = 0, normalised to sum r_n = 1.
+        let (va, vb) = (self.value[a], -self.value[b]);
+        let (ra, rb) = (rays.r(a), rays.r(b));
+        let mut r: Vec<f64> = ra.iter().zip(rb).map(|(x, y)| va * y + vb * x).collect();
+        normalise(&mut r);
+        let mut z = common.to_vec();
+        set_bit(&mut z, gap_bit(self.node));
+        // The new ray has u_n_i = 0; elsewhere it has a gap or a pressure where a or b has.
+        let or = |x: &[u64], y: &[u64]| x.iter().zip(y).map(|(p, q)| p | q).collect::<Vec<u64>>();
+        out.push(
+            &r,
+            &z,
+            &or(rays.gap(a), rays.gap(b)),
+            &or(rays.press(a), rays.press(b)),
+        );
+    }
+}
+
+/// Runs the double description and returns the complementary extreme rays.
+pub(crate) fn run(
+    problem: &Problem,
+    settings: &Settings,
+    info: &mut Info,
+    variant: Variant,
+) -> Vec<RawRay> {
+    let m = problem.nodes();
+    let n = 2 * m;
+    let mu = problem.mu();
+    let g = problem.compliance();
+    let tol = settings.zero_tol;
+    let words = (PER_NODE * m).div_ceil(64);
+    let node_words = m.div_ceil(64);
+    let mut rays = Rays::new(n, words, node_words);
+
+    // Step 1: the 2m extreme rays of the friction cones.
+    for i in 0..m {
+        for (sign, tight) in [(1.0, facet_plus(i)), (-1.0, facet_minus(i))] {
+            let mut r = vec![0.0; n];
+            r[2 * i] = 1.0;
+            r[2 * i + 1] = sign * mu;
+            let mut z = vec![0u64; words];
+            for j in (0..m).filter(|&j| j != i) {
+                set_bit(&mut z, facet_plus(j));
+                set_bit(&mut z, facet_minus(j));
+            }
+            set_bit(&mut z, tight);
+            let press = press_mask(&z, m, node_words);
+            rays.push(&r, &z, &vec![0u64; node_words], &press);
+        }
+    }
+    info.peak_rays = rays.len();
+
+    // Dense copy of the compliance rows `G[n_j, :]`, for cache-friendly dot products.
+    let gap_rows: Vec<f64> = (0..m)
+        .flat_map(|j| g.row(2 * j).iter().copied().collect::<Vec<_>>())
+        .collect();
+    let mut processed: Vec<usize> = Vec::with_capacity(m);
+    let mut remaining: Vec<usize> = (0..m).collect();
+
+    // Step 2: add u_n_i >= 0 node by node.
+    while !remaining.is_empty() {
+        // Signs of u_n_j at every held ray for every remaining node; process next the node with
+        // the fewest pairs to combine (ties: lowest index). The answer does not depend on it.
+        let signs: Vec<Signs> = remaining
+            .iter()
+            .map(|&j| classify(&rays, &gap_rows[j * n..(j + 1) * n], tol))
+            .collect();
+        let pick = (0..remaining.len())
+            .min_by_key(|&c| {
+                let (_, plus, minus, _) = &signs[c];
+                (plus.len() as u128 * minus.len() as u128, remaining[c])
+            })
+            .expect("a node remains");
+        let i = remaining.remove(pick);
+        let (value, plus, minus, zero) = signs.into_iter().nth(pick).expect("picked");
+
+        let tree = PatternTree::build(&rays, &minus);
+        let step = Step {
+            rays: &rays,
+            value: &value,
+            tree: &tree,
+            processed: &processed,
+            gap_rows: &gap_rows,
+            node: i,
+            m,
+            mu,
+            tol,
+            variant,
+        };
+        let chunks: Vec<(Rays, PairCounts)> = plus
+            .par_chunks(16)
+            .map(|chunk| {
+                let mut out = Rays::new(n, words, node_words);
+                let mut counts = PairCounts::default();
+                for &a in chunk {
+                    step.combine(a, &mut out, &mut counts);
+                }
+                (out, counts)
+            })
+            .collect();
+
+        // Keep: rays with u_n_i > 0 (in the pruned variant only if r_i = 0), rays with u_n_i = 0
+        // (now tight on the new constraint), and the new rays.
+        let mut kept = Rays::new(n, words, node_words);
+        for &a in &plus {
+            if variant == Variant::Full || r_zero(rays.z(a), i) {
+                let mut gap = rays.gap(a).to_vec();
+                set_bit(&mut gap, i);
+                kept.push(rays.r(a), rays.z(a), &gap, rays.press(a));
+            }
+        }
+        for &a in &zero {
+            let mut z = rays.z(a).to_vec();
+            set_bit(&mut z, gap_bit(i));
+            kept.push(rays.r(a), &z, rays.gap(a), rays.press(a));
+        }
+        let held = kept.len() + rays.len();
+        for (new, counts) in chunks {
+            info.pairs_tested += counts.pairs;
+            info.pairs_rejected_pattern += counts.pattern;
+            info.pairs_rejected_combinatorial += counts.combinatorial;
+            info.adjacency_tests += counts.rank_tests;
+            info.rays_created += new.len() as u64;
+            kept.append(new);
+        }
+        info.peak_rays = info.peak_rays.max(held + kept.len());
+        rays = kept;
+        processed.push(i);
+        info.node_order.push(i);
+        info.rays_after_node.push(rays.len());
+    }
+
+    if variant == Variant::Full {
+        info.extreme_rays_total = rays.len();
+    }
+    (0..rays.len())
+        .filter_map(|a| {
+            let z = rays.z(a);
+            let status: Option<Vec<NodeStatus>> = (0..m).map(|j| status_of(z, j)).collect();
+            status.map(|status| RawRay {
+                r: rays.r(a).to_vec(),
+                status,
+            })
+        })
+        .collect()
+}
+
+/// The values `u_n_j` at every held ray, and the rays where it is positive, negative, zero.
+type Signs = (Vec<f64>, Vec<usize>, Vec<usize>, Vec<usize>);
+
+/// `u_n_j` (the dot product of `row = G[n_j, :]` with each ray) and the rays where it is positive,
+/// negative and zero. Zero means `|x| <= tol * sum_k |G_{n_j k} r_k|`.
+fn classify(rays: &Rays, row: &[f64], tol: f64) -> Signs {
+    let (mut plus, mut minus, mut zero) = (Vec::new(), Vec::new(), Vec::new());
+    let value: Vec<f64> = (0..rays.len())
+        .map(|a| {
+            let (mut v, mut s) = (0.0, 0.0);
+            for (g, r) in row.iter().zip(rays.r(a)) {
+                let t = g * r;
+                v += t;
+                s += t.abs();
+            }
+            if v.abs() <= tol * s {
+                zero.push(a);
+            } else if v > 0.0 {
+                plus.push(a);
+            } else {
+                minus.push(a);
+            }
+            v
+        })
+        .collect();
+    (value, plus, minus, zero)
+}
+
+/// The status of node `j` in a ray with zero set `z` (all constraints processed), or `None` when
+/// the ray breaks complementarity there.
+fn status_of(z: &[u64], j: usize) -> Option<NodeStatus> {
+    let (p, q, gap_closed) = (
+        bit(z, facet_plus(j)),
+        bit(z, facet_minus(j)),
+        bit(z, gap_bit(j)),
+    );
+    Some(match (p, q, gap_closed) {
+        (true, true, false) => NodeStatus::Separated,
+        (true, true, true) => NodeStatus::Grazing,
+        (_, _, false) => return None,
+        (true, false, true) => NodeStatus::SlipPlus,
+        (false, true, true) => NodeStatus::SlipMinus,
+        (false, false, true) => NodeStatus::Stick,
+    })
+}
+
+fn normalise(r: &mut [f64]) {
+    let s: f64 = r.iter().step_by(2).sum();
+    r.iter_mut().for_each(|x| *x /= s);
+}
+
+/// The combinatorial test: no held ray other than `a` and `b` is tight on every constraint in
+/// `common = Z(a) & Z(b)`. Exact when every extreme ray of the current cone is held; otherwise a
+/// sound rejection filter.
+fn combinatorial_adjacent(rays: &Rays, a: usize, b: usize, common: &[u64]) -> bool {
+    (0..rays.len())
+        .all(|c| c == a || c == b || rays.z(c).iter().zip(common).any(|(zc, w)| w & !zc != 0))
+}
+
+/// Filter (b), algebraically: the constraints in `common` (friction facets of every node, `u_n`
+/// rows of the processed nodes) have rank `2m - 2`.
+///
+/// The tight facets of node `k` leave a subspace of its `(r_n, r_t)` plane: the whole plane (none
+/// tight), the line through `(1, +mu)` or `(1, -mu)` (one), or `{0}` (both). With `B` a basis of
+/// their product (`f` columns), the rank is `(2m - f) + rank(M)`, where `M` holds the tight
+/// `u_n_j` rows `G[n_j, :] B`. So the test is `rank(M) = f - 2`; `M` is small.
+fn algebraic_adjacent(
+    common: &[u64],
+    m: usize,
+    mu: f64,
+    processed: &[usize],
+    gap_rows: &[f64],
+    tol: f64,
+    scratch: &mut Vec<f64>,
+) -> bool {
+    let n = 2 * m;
+    // Columns of B as (node, (c_n, c_t)) pairs.
+    let mut columns: Vec<(usize, f64, f64)> = Vec::with_capacity(n);
+    for k in 0..m {
+        match (bit(common, facet_plus(k)), bit(common, facet_minus(k))) {
+            (false, false) => {
+                columns.push((k, 1.0, 0.0));
+                columns.push((k, 0.0, 1.0));
+            }
+            (true, false) => columns.push((k, 1.0, mu)),
+            (false, true) => columns.push((k, 1.0, -mu)),
+            (true, true) => {}
+        }
+    }
+    let f = columns.len();
+    let tight: Vec<usize> = processed
+        .iter()
+        .copied()
+        .filter(|&j| bit(common, gap_bit(j)))
+        .collect();
+    if tight.len() + 2 < f {
+        return false;
+    }
+    scratch.clear();
+    for &j in &tight {
+        let row = &gap_rows[j * n..(j + 1) * n];
+        scratch.extend(
+            columns
+                .iter()
+                .map(|&(k, cn, ct)| row[2 * k] * cn + row[2 * k + 1] * ct),
+        );
+    }
+    rank(scratch, tight.len(), f, tol) + 2 == f
+}
+
+/// A bit-pattern tree over a set of rays (after Terzer & Stelling, 2008): a binary tree whose
+/// leaves hold at most [`PatternTree::LEAF`] rays, split on a zero-set bit, where every node keeps
+/// the OR of its rays' zero sets and the AND of their `gap` and `press` masks. A query skips a
+/// subtree when no ray in it can share enough tight constraints, or every ray in it breaks
+/// filter (a).
+struct PatternTree {
+    nodes: Vec<TreeNode>,
+    /// The rays, permuted so that each node's rays are `items[start..end]`.
+    items: Vec<usize>,
+    words: usize,
+    node_words: usize,
+    or_z: Vec<u64>,
+    and_gap: Vec<u64>,
+    and_press: Vec<u64>,
+}
+
+struct TreeNode {
+    start: usize,
+    end: usize,
+    children: Option<(usize, usize)>,
+}
+
+impl PatternTree {
+    const LEAF: usize = 12;
+
+    fn build(rays: &Rays, items: &[usize]) -> PatternTree {
+        let mut tree = PatternTree {
+            nodes: Vec::new(),
+            items: items.to_vec(),
+            words: rays.words,
+            node_words: rays.node_words,
+            or_z: Vec::new(),
+            and_gap: Vec::new(),
+            and_press: Vec::new(),
+        };
+        tree.node(rays, 0, items.len());
+        tree
+    }
+
+    fn or_z(&self, t: usize) -> &[u64] {
+        &self.or_z[t * self.words..(t + 1) * self.words]
+    }
+    fn and_gap(&self, t: usize) -> &[u64] {
+        &self.and_gap[t * self.node_words..(t + 1) * self.node_words]
+    }
+    fn and_press(&self, t: usize) -> &[u64] {
+        &self.and_press[t * self.node_words..(t + 1) * self.node_words]
+    }
+
+    /// Builds the node for `items[start..end]` and returns its index.
+    fn node(&mut self, rays: &Rays, start: usize, end: usize) -> usize {
+        let t = self.nodes.len();
+        self.nodes.push(TreeNode {
+            start,
+            end,
+            children: None,
+        });
+        let (mut or_z, mut and_z) = (vec![0u64; self.words], vec![!0u64; self.words]);
+        let (mut and_gap, mut and_press) =
+            (vec![!0u64; self.node_words], vec![!0u64; self.node_words]);
+        for &a in &self.items[start..end] {
+            for (w, x) in rays.z(a).iter().enumerate() {
+                or_z[w] |= x;
+                and_z[w] &= x;
+            }
+            for (w, x) in rays.gap(a).iter().enumerate() {
+                and_gap[w] &= x;
+            }
+            for (w, x) in rays.press(a).iter().enumerate() {
+                and_press[w] &= x;
+            }
+        }
+        if start == end {
+            and_gap.fill(0);
+            and_press.fill(0);
+        }
+        self.or_z.extend(&or_z);
+        self.and_gap.extend(&and_gap);
+        self.and_press.extend(&and_press);
+        if end - start <= Self::LEAF {
+            return t;
+        }
+        // Split on the zero-set bit that varies and divides the rays most evenly.
+        let len = end - start;
+        let mut best: Option<(usize, usize)> = None;
+        for w in 0..self.words {
+            let varying = or_z[w] & !and_z[w];
+            for b in (0..64).filter(|b| varying >> b & 1 == 1) {
+                let bitpos = w * 64 + b;
+                let ones = self.items[start..end]
+                    .iter()
+                    .filter(|&&a| bit(rays.z(a), bitpos))
+                    .count();
+                let balance = ones.min(len - ones);
+                if best.is_none_or(|(_, bb)| balance > bb) {
+                    best = Some((bitpos, balance));
+                }
+            }
+        }
+        let Some((split, _)) = best else { return t };
+        let slice = &mut self.items[start..end];
+        let mut lo = 0;
+        for k in 0..slice.len() {
+            if !bit(rays.z(slice[k]), split) {
+                slice.swap(lo, k);
+                lo += 1;
+            }
+        }
+        let left = self.node(rays, start, start + lo);
+        let right = self.node(rays, start + lo, end);
+        self.nodes[t].children = Some((left, right));
+        t
+    }
+}
