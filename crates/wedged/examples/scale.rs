@@ -1,6 +1,7 @@
-//! `cargo run --release -p wedged --example scale -- M MU SEED [full]`: one timed enumeration of a
-//! seeded random problem, with the kept-ray counts.
-use wedged::examples::random_spd_problem;
+//! `cargo run --release -p wedged --example scale -- M MU SEED [pruned|full] [band=B]`: one timed
+//! enumeration of a seeded random problem (dense coupling, or local coupling within `B` nodes),
+//! with the kept-ray counts.
+use wedged::examples::{banded_spd_problem, random_spd_problem};
 use wedged::{enumerate, Method, Settings};
 
 fn main() {
@@ -8,22 +9,31 @@ fn main() {
     let m: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(10);
     let mu: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(1.0);
     let seed: u64 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(2024);
-    let method = if args.get(4).map(String::as_str) == Some("full") {
-        Method::FullDd
-    } else {
-        Method::PrunedDd
+    let method = match args.get(4).map(String::as_str) {
+        Some("full") => Method::FullDd,
+        _ => Method::PrunedDd,
     };
-    let p = random_spd_problem(m, mu, seed);
-    let e = enumerate(
-        &p,
-        &Settings {
-            method,
-            ..Settings::default()
-        },
-    )
-    .expect("enumeration");
+    let band: Option<usize> =
+        args.get(5).and_then(|s| s.strip_prefix("band=")).and_then(|s| s.parse().ok());
+    let p = match band {
+        Some(b) => banded_spd_problem(m, b, mu, seed),
+        None => random_spd_problem(m, mu, seed),
+    };
+    let e = enumerate(&p, &Settings { method, ..Settings::default() }).expect("enumeration");
+    let i = &e.info;
     println!(
-        "m = {m}, mu = {mu}, seed = {seed}, {method}: {} rays, {} cones, {:.3} s, peak {}, pairs {} (pattern-rejected {}, comb-rejected {}), rank tests {}, created {}\nkept after each node: {:?}",
-        e.rays.len(), e.cones.len(), e.info.seconds, e.info.peak_rays, e.info.pairs_tested, e.info.pairs_rejected_pattern, e.info.pairs_rejected_combinatorial, e.info.adjacency_tests, e.info.rays_created, e.info.rays_after_node
+        "m = {m}, mu = {mu}, seed = {seed}, band = {band:?}, {method}: {} rays, {} cones, {:.3} s, \
+         peak {} rays held, {} pairs ({} rejected by pattern, {} by count/combinatorics), \
+         {} rank tests, {} rays created",
+        e.rays.len(),
+        e.cones.len(),
+        i.seconds,
+        i.peak_rays,
+        i.pairs_tested,
+        i.pairs_rejected_pattern,
+        i.pairs_rejected_combinatorial,
+        i.adjacency_tests,
+        i.rays_created
     );
+    println!("kept after each node: {:?}", i.rays_after_node);
 }

@@ -4,6 +4,9 @@ use nalgebra::DMatrix;
 
 use crate::problem::Problem;
 
+mod lattice;
+pub use lattice::lattice_plug;
+
 /// The demo: four contact nodes of a small elastic block pressed into a notch, modelled as a
 /// discrete system. Each node has a normal and a tangential spring, the tangential spring is
 /// inclined to the wall (normal-tangential coupling, the source of wedging), and neighbouring
@@ -49,6 +52,29 @@ pub fn random_spd_problem(m: usize, mu: f64, seed: u64) -> Problem {
         (state >> 11) as f64 / (1u64 << 53) as f64
     };
     let a = DMatrix::from_fn(n, n, |_, _| 2.0 * uniform() - 1.0);
+    let d = nalgebra::DVector::from_fn(n, |_, _| 0.05 + 0.95 * uniform());
+    let k = &a * a.transpose() + DMatrix::from_diagonal(&d);
+    Problem::new(2, k, mu).expect("A A^T + diag(d) with d > 0 is positive definite")
+}
+
+/// A seeded random 2D problem with local coupling, like a condensed finite-element contact
+/// boundary: `K = A A^T + diag(d)` where `A[i][j]` is nonzero only when the nodes of `i` and `j`
+/// are at most `band` apart along the boundary. Same generator as [`random_spd_problem`].
+pub fn banded_spd_problem(m: usize, band: usize, mu: f64, seed: u64) -> Problem {
+    let n = 2 * m;
+    let mut state = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    let mut uniform = move || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let a = DMatrix::from_fn(n, n, |i, j| {
+        let x = 2.0 * uniform() - 1.0;
+        if (i / 2).abs_diff(j / 2) <= band {
+            x
+        } else {
+            0.0
+        }
+    });
     let d = nalgebra::DVector::from_fn(n, |_, _| 0.05 + 0.95 * uniform());
     let k = &a * a.transpose() + DMatrix::from_diagonal(&d);
     Problem::new(2, k, mu).expect("A A^T + diag(d) with d > 0 is positive definite")
