@@ -13,13 +13,22 @@ fn main() {
         Some("full") => Method::FullDd,
         _ => Method::PrunedDd,
     };
-    let band: Option<usize> =
-        args.get(5).and_then(|s| s.strip_prefix("band=")).and_then(|s| s.parse().ok());
+    let band: Option<usize> = args
+        .get(5)
+        .and_then(|s| s.strip_prefix("band="))
+        .and_then(|s| s.parse().ok());
     let p = match band {
         Some(b) => banded_spd_problem(m, b, mu, seed),
         None => random_spd_problem(m, mu, seed),
     };
-    let e = enumerate(&p, &Settings { method, ..Settings::default() }).expect("enumeration");
+    let e = enumerate(
+        &p,
+        &Settings {
+            method,
+            ..Settings::default()
+        },
+    )
+    .expect("enumeration");
     let i = &e.info;
     println!(
         "m = {m}, mu = {mu}, seed = {seed}, band = {band:?}, {method}: {} rays, {} cones, {:.3} s, \

@@ -43,3 +43,8 @@ pub use enumerate::{
     Outcome, Ray, Settings,
 };
 pub use problem::{Problem, ProblemError};
+
+/// The README's Rust example, run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeDoctests;

@@ -207,3 +207,76 @@ pub fn verify_ray(problem: &Problem, ray: &Ray, tol: f64) -> Result<(), VerifyEr
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::enumerate::{enumerate, Settings};
+    use crate::examples::demo;
+
+    /// The demo's rays pass; every kind of corruption is caught.
+    #[test]
+    fn corrupted_rays_are_caught() {
+        let p = demo();
+        let tol = Settings::default().zero_tol;
+        let e = enumerate(&p, &Settings::default()).unwrap();
+        assert!(e.rays.len() >= 3, "the demo must have rays to corrupt");
+        for ray in &e.rays {
+            verify_ray(&p, ray, tol).unwrap();
+            // Recomputing from the status gives the same ray back.
+            let again = polish_and_verify(&p, &ray.r, ray.status.clone(), tol).unwrap();
+            assert_eq!(again.status, ray.status);
+
+            // A perturbed reaction breaks equilibrium with the reported u.
+            let mut bad = ray.clone();
+            bad.r[1] += 1e-6;
+            assert!(matches!(
+                verify_ray(&p, &bad, tol),
+                Err(VerifyError::Violated { .. })
+            ));
+
+            // A displaced u (still K u = r after recomputing r) breaks the gap or the status.
+            let mut bad = ray.clone();
+            let i = bad.status.iter().position(|s| s.pressed()).unwrap();
+            bad.u[2 * i] -= 1e-3;
+            bad.r = (0..bad.u.len())
+                .map(|row| {
+                    (0..bad.u.len())
+                        .map(|c| p.stiffness()[(row, c)] * bad.u[c])
+                        .sum()
+                })
+                .collect();
+            assert!(verify_ray(&p, &bad, tol).is_err());
+
+            // Claiming another status at one node is caught, by the recomputation or the check.
+            for other in [
+                NodeStatus::Separated,
+                NodeStatus::Stick,
+                NodeStatus::SlipPlus,
+            ] {
+                if other == ray.status[0] {
+                    continue;
+                }
+                let mut status = ray.status.clone();
+                status[0] = other;
+                assert!(polish_and_verify(&p, &ray.r, status, tol).is_err());
+            }
+        }
+    }
+
+    /// A status whose tight constraints leave a 2D face is not an extreme ray.
+    #[test]
+    fn non_extreme_status_is_rejected() {
+        let p = demo();
+        let r = vec![0.25, 0.0, 0.25, 0.0, 0.25, 0.0, 0.25, 0.0];
+        let status = vec![NodeStatus::Stick; 4];
+        assert!(matches!(
+            polish_and_verify(&p, &r, status, 1e-9),
+            Err(VerifyError::NotExtreme {
+                rank: 4,
+                needed: 7,
+                ..
+            })
+        ));
+    }
+}

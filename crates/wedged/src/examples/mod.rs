@@ -62,9 +62,13 @@ pub fn random_spd_problem(m: usize, mu: f64, seed: u64) -> Problem {
 /// are at most `band` apart along the boundary. Same generator as [`random_spd_problem`].
 pub fn banded_spd_problem(m: usize, band: usize, mu: f64, seed: u64) -> Problem {
     let n = 2 * m;
-    let mut state = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    let mut state = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
     let mut uniform = move || {
-        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         (state >> 11) as f64 / (1u64 << 53) as f64
     };
     let a = DMatrix::from_fn(n, n, |i, j| {
