@@ -293,3 +293,24 @@ fn one_node_closed_form() {
         assert_eq!(run(&p, method).outcome, Outcome::NotWedged);
     }
 }
+
+/// Ill-conditioned stiffness (low-rank `A A^T` plus a diagonal down to 1e-6; condition numbers up
+/// to about 1e7): every ray still verifies and the methods still agree.
+#[test]
+fn methods_agree_on_ill_conditioned_problems() {
+    let mut rng = ChaCha8Rng::seed_from_u64(42);
+    for trial in 0..150 {
+        let m = 3 + trial % 5;
+        let n = 2 * m;
+        let cols = rng.gen_range(1..=n);
+        let a = DMatrix::from_fn(n, cols, |_, _| rng.gen_range(-1.0..1.0));
+        let dmin = [1e-2, 1e-4, 1e-6][trial % 3];
+        let d = nalgebra::DVector::from_fn(n, |_, _| dmin * rng.gen_range(1.0..10.0));
+        let k = &a * a.transpose() + DMatrix::from_diagonal(&d);
+        let p = Problem::new(2, k, rng.gen_range(0.3..4.0)).unwrap();
+        check_all_methods(
+            &p,
+            &format!("ill-conditioned trial {trial} (diagonal {dmin})"),
+        );
+    }
+}
