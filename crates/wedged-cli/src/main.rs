@@ -10,14 +10,16 @@ mod problem_file;
 mod summary;
 
 use std::fmt;
-use std::io::{self, Write};
+use std::io::{self, IsTerminal, Write};
 use std::panic::{self, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::builder::PossibleValue;
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use wedged::{enumerate, EnumerateError, Enumeration, Method, Problem, Settings};
+use wedged::{
+    enumerate_with_progress, EnumerateError, Enumeration, Method, Problem, Progress, Settings,
+};
 
 use crate::output::JsonTarget;
 
@@ -261,7 +263,28 @@ fn run_library(
     settings: &Settings,
     source: &str,
 ) -> Result<Enumeration, Failure> {
-    enumerate(problem, settings).map_err(|e| match e {
+    // A live progress line on stderr, only for a person at a terminal and only once the run has
+    // lasted a second: pipes, files and CI logs stay clean.
+    let start = std::time::Instant::now();
+    let live = io::stderr().is_terminal();
+    let shown = std::cell::Cell::new(false);
+    let progress = |p: Progress| {
+        if live && start.elapsed().as_secs_f64() > 1.0 {
+            eprint!(
+                "\r  node {}/{}: {} rays held, {:.1} s   ",
+                p.done,
+                p.total,
+                p.rays,
+                start.elapsed().as_secs_f64()
+            );
+            shown.set(true);
+        }
+    };
+    let result = enumerate_with_progress(problem, settings, &progress);
+    if shown.get() {
+        eprintln!();
+    }
+    result.map_err(|e| match e {
         EnumerateError::UnsupportedDim(d) => Failure::Input(format!(
             "{source}: dim = {d}: enumerating 3D problems (by sign patterns) is not implemented \
              yet; only dim = 2 can be enumerated"

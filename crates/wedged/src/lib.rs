@@ -39,8 +39,8 @@ pub mod problem;
 pub mod verify;
 
 pub use enumerate::{
-    enumerate, Cone, ContactPattern, EnumerateError, Enumeration, Info, Method, NodeStatus,
-    Outcome, Ray, Settings,
+    enumerate, enumerate_with_progress, Cone, ContactPattern, EnumerateError, Enumeration, Info,
+    Method, NodeStatus, Outcome, Progress, Ray, Settings,
 };
 pub use problem::{Problem, ProblemError};
 

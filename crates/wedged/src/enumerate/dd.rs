@@ -25,7 +25,7 @@
 
 use rayon::prelude::*;
 
-use super::{Info, NodeStatus, RawRay, Settings};
+use super::{Info, NodeStatus, Progress, RawRay, Settings};
 use crate::linalg::rank;
 use crate::problem::Problem;
 
@@ -281,6 +281,7 @@ pub(crate) fn run(
     settings: &Settings,
     info: &mut Info,
     variant: Variant,
+    progress: &dyn Fn(Progress),
 ) -> Vec<RawRay> {
     let m = problem.nodes();
     let n = 2 * m;
@@ -387,6 +388,11 @@ pub(crate) fn run(
         processed.push(i);
         info.node_order.push(i);
         info.rays_after_node.push(rays.len());
+        progress(Progress {
+            done: processed.len(),
+            total: m,
+            rays: rays.len(),
+        });
     }
 
     if variant == Variant::Full {

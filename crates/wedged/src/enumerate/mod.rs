@@ -230,9 +230,30 @@ pub(crate) struct RawRay {
     pub status: Vec<NodeStatus>,
 }
 
+/// Where a running enumeration is, reported after each node is processed (double description
+/// methods) or each contact set is done (faces).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Progress {
+    /// Steps done.
+    pub done: usize,
+    /// Steps in all.
+    pub total: usize,
+    /// Rays held now.
+    pub rays: usize,
+}
+
 /// Enumerates the complementary extreme rays and the maximal cross-complementary sets of a 2D
 /// problem.
 pub fn enumerate(problem: &Problem, settings: &Settings) -> Result<Enumeration, EnumerateError> {
+    enumerate_with_progress(problem, settings, &|_| {})
+}
+
+/// [`enumerate`], calling `progress` as the run goes (from the calling thread).
+pub fn enumerate_with_progress(
+    problem: &Problem,
+    settings: &Settings,
+    progress: &dyn Fn(Progress),
+) -> Result<Enumeration, EnumerateError> {
     if problem.dim() != 2 {
         return Err(EnumerateError::UnsupportedDim(problem.dim()));
     }
@@ -252,8 +273,8 @@ pub fn enumerate(problem: &Problem, settings: &Settings) -> Result<Enumeration, 
     let start = Instant::now();
     let mut info = Info::default();
     let raw = match settings.method {
-        Method::PrunedDd => dd::run(problem, settings, &mut info, dd::Variant::Pruned),
-        Method::FullDd => dd::run(problem, settings, &mut info, dd::Variant::Full),
+        Method::PrunedDd => dd::run(problem, settings, &mut info, dd::Variant::Pruned, progress),
+        Method::FullDd => dd::run(problem, settings, &mut info, dd::Variant::Full, progress),
         Method::Faces => faces::run(problem, settings, &mut info),
     };
     let mut rays = Vec::with_capacity(raw.len());
