@@ -314,3 +314,20 @@ fn methods_agree_on_ill_conditioned_problems() {
         );
     }
 }
+
+/// The spring-lattice plug: physical compliance, mirror symmetry, near-grazing rays.
+#[test]
+fn methods_agree_on_the_lattice_plug() {
+    use wedged::examples::lattice_plug;
+    for per_side in 1..=3 {
+        for mu in [0.5, 2.2, 2.5, 3.0, 5.0] {
+            check_all_methods(&lattice_plug(per_side, mu), &format!("lattice {per_side}, mu {mu}"));
+        }
+    }
+    // m = 8: faces is slow here, the two double descriptions are compared.
+    for mu in [2.5, 3.0, 6.0] {
+        let p = lattice_plug(4, mu);
+        let what = format!("lattice 4, mu {mu}");
+        assert_same(&run(&p, Method::PrunedDd), &run(&p, Method::FullDd), &what);
+    }
+}
