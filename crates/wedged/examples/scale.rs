@@ -1,7 +1,7 @@
-//! `cargo run --release -p wedged --example scale -- M MU SEED [pruned|full] [band=B]`: one timed
-//! enumeration of a seeded random problem (dense coupling, or local coupling within `B` nodes),
-//! with the kept-ray counts.
-use wedged::examples::{banded_spd_problem, random_spd_problem};
+//! `cargo run --release -p wedged --example scale -- M MU SEED [pruned|full] [band=B|block=B]`: one
+//! timed enumeration of a seeded random problem (dense coupling, local coupling within `B` nodes,
+//! or independent blocks of `B` nodes), with the kept-ray counts.
+use wedged::examples::{banded_spd_problem, block_spd_problem, random_spd_problem};
 use wedged::{enumerate, Method, Settings};
 
 fn main() {
@@ -13,13 +13,14 @@ fn main() {
         Some("full") => Method::FullDd,
         _ => Method::PrunedDd,
     };
-    let band: Option<usize> = args
-        .get(5)
-        .and_then(|s| s.strip_prefix("band="))
-        .and_then(|s| s.parse().ok());
-    let p = match band {
-        Some(b) => banded_spd_problem(m, b, mu, seed),
-        None => random_spd_problem(m, mu, seed),
+    let family = args.get(5).map(String::as_str).unwrap_or("dense");
+    let number = |prefix: &str| family.strip_prefix(prefix).and_then(|s| s.parse().ok());
+    let p = if let Some(b) = number("band=") {
+        banded_spd_problem(m, b, mu, seed)
+    } else if let Some(b) = number("block=") {
+        block_spd_problem(m, b, mu, seed)
+    } else {
+        random_spd_problem(m, mu, seed)
     };
     let e = enumerate(
         &p,
@@ -31,7 +32,7 @@ fn main() {
     .expect("enumeration");
     let i = &e.info;
     println!(
-        "m = {m}, mu = {mu}, seed = {seed}, band = {band:?}, {method}: {} rays, {} cones, {:.3} s, \
+        "m = {m}, mu = {mu}, seed = {seed}, {family}, {method}: {} rays, {} cones, {:.3} s, \
          peak {} rays held, {} pairs ({} rejected by pattern, {} by count/combinatorics), \
          {} rank tests, {} rays created",
         e.rays.len(),

@@ -321,7 +321,10 @@ fn methods_agree_on_the_lattice_plug() {
     use wedged::examples::lattice_plug;
     for per_side in 1..=3 {
         for mu in [0.5, 2.2, 2.5, 3.0, 5.0] {
-            check_all_methods(&lattice_plug(per_side, mu), &format!("lattice {per_side}, mu {mu}"));
+            check_all_methods(
+                &lattice_plug(per_side, mu),
+                &format!("lattice {per_side}, mu {mu}"),
+            );
         }
     }
     // m = 8: faces is slow here, the two double descriptions are compared.

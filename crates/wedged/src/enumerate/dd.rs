@@ -140,7 +140,10 @@ struct PairCounts {
 struct Step<'a> {
     rays: &'a Rays,
     value: &'a [f64],
+    /// The rays with `u_n_i < 0`, to find pairs.
     tree: &'a PatternTree,
+    /// Every held ray (pruned variant), for the combinatorial rejection test.
+    held: Option<&'a PatternTree>,
     processed: &'a [usize],
     gap_rows: &'a [f64],
     node: usize,
@@ -237,10 +240,17 @@ impl Step<'_> {
         let adjacent = match self.variant {
             // Every extreme ray of the current cone is held: the combinatorial test is exact.
             Variant::Full => combinatorial_adjacent(rays, a, b, common),
-            // Rays were deleted: decide algebraically. (The combinatorial test would still be a
-            // sound rejection filter, but scanning every held ray costs more than the rank of the
-            // small matrix once thousands of rays are held.)
+            // Rays were deleted: decide algebraically. The combinatorial test is still a sound
+            // filter that rejects (every held ray is an extreme ray of the current cone), and a
+            // superset query on the tree of held rays is cheaper than the rank.
             Variant::Pruned => {
+                let held = self
+                    .held
+                    .expect("the pruned variant builds the tree of held rays");
+                if held.has_superset(rays, common, a, b) {
+                    counts.combinatorial += 1;
+                    return;
+                }
                 counts.rank_tests += 1;
                 algebraic_adjacent(
                     common,
@@ -315,30 +325,21 @@ pub(crate) fn run(
         .flat_map(|j| g.row(2 * j).iter().copied().collect::<Vec<_>>())
         .collect();
     let mut processed: Vec<usize> = Vec::with_capacity(m);
-    let mut remaining: Vec<usize> = (0..m).collect();
 
-    // Step 2: add u_n_i >= 0 node by node.
-    while !remaining.is_empty() {
-        // Signs of u_n_j at every held ray for every remaining node; process next the node with
-        // the fewest pairs to combine (ties: lowest index). The answer does not depend on it.
-        let signs: Vec<Signs> = remaining
-            .iter()
-            .map(|&j| classify(&rays, &gap_rows[j * n..(j + 1) * n], tol))
-            .collect();
-        let pick = (0..remaining.len())
-            .min_by_key(|&c| {
-                let (_, plus, minus, _) = &signs[c];
-                (plus.len() as u128 * minus.len() as u128, remaining[c])
-            })
-            .expect("a node remains");
-        let i = remaining.remove(pick);
-        let (value, plus, minus, zero) = signs.into_iter().nth(pick).expect("picked");
-
+    // Step 2: add u_n_i >= 0 node by node, in the input order. (Measured: a greedy order, fewest
+    // pairs first, held fewer rays on some problems and more on others, within a factor of two,
+    // and cost a classification of every remaining node at each step; the input order was as fast
+    // or faster on the random and lattice families. The answer does not depend on the order.)
+    for i in 0..m {
+        let (value, plus, minus, zero) = classify(&rays, &gap_rows[i * n..(i + 1) * n], tol);
         let tree = PatternTree::build(&rays, &minus);
+        let all: Vec<usize> = (0..rays.len()).collect();
+        let held = (variant == Variant::Pruned).then(|| PatternTree::build(&rays, &all));
         let step = Step {
             rays: &rays,
             value: &value,
             tree: &tree,
+            held: held.as_ref(),
             processed: &processed,
             gap_rows: &gap_rows,
             node: i,
@@ -567,6 +568,31 @@ impl PatternTree {
     }
     fn and_press(&self, t: usize) -> &[u64] {
         &self.and_press[t * self.node_words..(t + 1) * self.node_words]
+    }
+
+    /// Some ray of the tree other than `a` and `b` is tight on every constraint in `common`.
+    /// A subtree is skipped when the union of its zero sets misses a constraint of `common`.
+    fn has_superset(&self, rays: &Rays, common: &[u64], a: usize, b: usize) -> bool {
+        let mut stack = vec![0usize];
+        while let Some(t) = stack.pop() {
+            if self.or_z(t).iter().zip(common).any(|(o, c)| c & !o != 0) {
+                continue;
+            }
+            let node = &self.nodes[t];
+            if let Some((left, right)) = node.children {
+                stack.push(right);
+                stack.push(left);
+                continue;
+            }
+            let contains = |c: usize| rays.z(c).iter().zip(common).all(|(z, w)| w & !z == 0);
+            if self.items[node.start..node.end]
+                .iter()
+                .any(|&c| c != a && c != b && contains(c))
+            {
+                return true;
+            }
+        }
+        false
     }
 
     /// Builds the node for `items[start..end]` and returns its index.

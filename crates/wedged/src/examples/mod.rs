@@ -83,3 +83,19 @@ pub fn banded_spd_problem(m: usize, band: usize, mu: f64, seed: u64) -> Problem 
     let k = &a * a.transpose() + DMatrix::from_diagonal(&d);
     Problem::new(2, k, mu).expect("A A^T + diag(d) with d > 0 is positive definite")
 }
+
+/// Several independent bodies (or contact patches that do not interact), each a seeded random
+/// [`random_spd_problem`] of `block` nodes: `K` is block diagonal, `m` must be a multiple of
+/// `block`. Its wedged configurations are those of each block with the other blocks grazing.
+pub fn block_spd_problem(m: usize, block: usize, mu: f64, seed: u64) -> Problem {
+    assert!(block > 0 && m % block == 0, "m must be a multiple of block");
+    let n = 2 * m;
+    let mut k = DMatrix::<f64>::zeros(n, n);
+    for b in 0..m / block {
+        let part = random_spd_problem(block, mu, seed.wrapping_add(b as u64));
+        let o = 2 * block * b;
+        k.view_mut((o, o), (2 * block, 2 * block))
+            .copy_from(part.stiffness());
+    }
+    Problem::new(2, k, mu).expect("a block diagonal of SPD blocks is SPD")
+}
