@@ -134,6 +134,10 @@ struct PairCounts {
     pattern: u64,
     combinatorial: u64,
     rank_tests: u64,
+    /// Pairs rejected by the superset query on held rays.
+    superset_rejects: u64,
+    /// Rank tests that found the pair not adjacent.
+    rank_rejects: u64,
 }
 
 /// Read-only data of one step.
@@ -244,15 +248,16 @@ impl Step<'_> {
             // filter that rejects (every held ray is an extreme ray of the current cone), and a
             // superset query on the tree of held rays is cheaper than the rank.
             Variant::Pruned => {
-                let held = self
+                if self
                     .held
-                    .expect("the pruned variant builds the tree of held rays");
-                if held.has_superset(rays, common, a, b) {
+                    .is_some_and(|held| held.has_superset(rays, common, a, b))
+                {
                     counts.combinatorial += 1;
+                    counts.superset_rejects += 1;
                     return;
                 }
                 counts.rank_tests += 1;
-                algebraic_adjacent(
+                let adjacent = algebraic_adjacent(
                     common,
                     self.m,
                     self.mu,
@@ -260,7 +265,9 @@ impl Step<'_> {
                     self.gap_rows,
                     self.tol,
                     scratch,
-                )
+                );
+                counts.rank_rejects += !adjacent as u64;
+                adjacent
             }
         };
         if !adjacent {
@@ -330,11 +337,17 @@ pub(crate) fn run(
     // pairs first, held fewer rays on some problems and more on others, within a factor of two,
     // and cost a classification of every remaining node at each step; the input order was as fast
     // or faster on the random and lattice families. The answer does not depend on the order.)
+    let mut use_superset_filter = true;
     for i in 0..m {
         let (value, plus, minus, zero) = classify(&rays, &gap_rows[i * n..(i + 1) * n], tol);
         let tree = PatternTree::build(&rays, &minus);
-        let all: Vec<usize> = (0..rays.len()).collect();
-        let held = (variant == Variant::Pruned).then(|| PatternTree::build(&rays, &all));
+        // The superset filter pays only where the count lets many non-adjacent pairs through
+        // (degenerate problems); where nearly every candidate is adjacent, its failing queries
+        // cost more than the rank tests they would save. Decide per node from the last one.
+        let held = (variant == Variant::Pruned && use_superset_filter).then(|| {
+            let all: Vec<usize> = (0..rays.len()).collect();
+            PatternTree::build(&rays, &all)
+        });
         let step = Step {
             rays: &rays,
             value: &value,
@@ -375,8 +388,12 @@ pub(crate) fn run(
             set_bit(&mut z, gap_bit(i));
             kept.push(rays.r(a), &z, rays.gap(a), rays.press(a));
         }
-        let held = kept.len() + rays.len();
+        let held_now = kept.len() + rays.len();
+        let (mut superset_rejects, mut rank_tests, mut rank_rejects) = (0, 0, 0);
         for (new, counts) in chunks {
+            superset_rejects += counts.superset_rejects;
+            rank_tests += counts.rank_tests;
+            rank_rejects += counts.rank_rejects;
             info.pairs_tested += counts.pairs;
             info.pairs_rejected_pattern += counts.pattern;
             info.pairs_rejected_combinatorial += counts.combinatorial;
@@ -384,7 +401,15 @@ pub(crate) fn run(
             info.rays_created += new.len() as u64;
             kept.append(new);
         }
-        info.peak_rays = info.peak_rays.max(held + kept.len());
+        info.peak_rays = info.peak_rays.max(held_now + kept.len());
+        // Keep the filter while it rejects at least a tenth of what reaches it; turn it on when
+        // more than half of the rank tests reject.
+        let reached = superset_rejects + rank_tests;
+        use_superset_filter = if held.is_some() {
+            reached > 0 && superset_rejects * 10 >= reached
+        } else {
+            rank_rejects * 2 > rank_tests
+        };
         rays = kept;
         processed.push(i);
         info.node_order.push(i);
@@ -628,20 +653,30 @@ impl PatternTree {
         if end - start <= Self::LEAF {
             return t;
         }
-        // Split on the zero-set bit that varies and divides the rays most evenly.
+        // Split on the zero-set bit that varies and divides the rays most evenly. The ones of
+        // every bit are counted in one pass over (about 1024 of) the rays.
         let len = end - start;
+        // Rays sit in creation order, so the sample is strided, not a prefix.
+        let stride = len.div_ceil(1024);
+        let sample = len.div_ceil(stride);
+        let mut ones = vec![0usize; self.words * 64];
+        for &a in self.items[start..end].iter().step_by(stride) {
+            for (w, x) in rays.z(a).iter().enumerate() {
+                let mut v = x & or_z[w] & !and_z[w];
+                while v != 0 {
+                    ones[w * 64 + v.trailing_zeros() as usize] += 1;
+                    v &= v - 1;
+                }
+            }
+        }
         let mut best: Option<(usize, usize)> = None;
         for w in 0..self.words {
             let varying = or_z[w] & !and_z[w];
             for b in (0..64).filter(|b| varying >> b & 1 == 1) {
-                let bitpos = w * 64 + b;
-                let ones = self.items[start..end]
-                    .iter()
-                    .filter(|&&a| bit(rays.z(a), bitpos))
-                    .count();
-                let balance = ones.min(len - ones);
+                let count = ones[w * 64 + b];
+                let balance = count.min(sample - count);
                 if best.is_none_or(|(_, bb)| balance > bb) {
-                    best = Some((bitpos, balance));
+                    best = Some((w * 64 + b, balance));
                 }
             }
         }
