@@ -174,7 +174,8 @@ fn run(cli: Cli) -> Result<(), Failure> {
 
 fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
     let source = args.problem.display().to_string();
-    let problem = problem_file::load(&args.problem).map_err(|e| Failure::Input(e.to_string()))?;
+    let problem = problem_file::load(&args.problem, args.mu.is_some())
+        .map_err(|e| Failure::Input(e.to_string()))?;
     let problem = match args.mu {
         Some(mu) => problem
             .with_mu(mu)

@@ -53,7 +53,7 @@ struct RawStiffness {
 }
 
 /// Reads and validates the problem in the TOML file at `path`.
-pub fn load(path: &Path) -> Result<Problem, LoadError> {
+pub fn load(path: &Path, mu_on_command_line: bool) -> Result<Problem, LoadError> {
     let name = path.display();
     let err = |m: String| LoadError(format!("{name}: {m}"));
     let text =
@@ -63,9 +63,15 @@ pub fn load(path: &Path) -> Result<Problem, LoadError> {
     let dim = raw
         .dim
         .ok_or_else(|| err("missing `dim` (the space dimension, 2 or 3)".into()))?;
-    let mu = raw
-        .mu
-        .ok_or_else(|| err("missing `mu` (the friction coefficient, > 0)".into()))?;
+    // With --mu on the command line the file's `mu` is not needed (and not read): the caller
+    // replaces this placeholder with the command-line value, which the library validates.
+    let mu = if mu_on_command_line {
+        1.0
+    } else {
+        raw.mu.ok_or_else(|| {
+            err("missing `mu` (the friction coefficient, > 0; or pass --mu)".into())
+        })?
+    };
     let stiffness = raw.stiffness.ok_or_else(|| {
         err("missing the [stiffness] table (with `matrix_market = \"K.mtx\"` or `rows = [[...], ...]`)"
             .into())
@@ -143,7 +149,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("p.toml");
         fs::write(&path, text).unwrap();
-        load(&path)
+        load(&path, false)
     }
 
     #[test]

@@ -398,6 +398,15 @@ fn unknown_key() {
 }
 
 #[test]
+fn mu_from_the_command_line_alone() {
+    let text = "dim = 2\n[stiffness]\nrows = [[2, 1], [1, 1]]\n";
+    let (out, _) = enumerate_text(text, &["--mu", "1.1", "--json", "-"]);
+    let json = json_stdout(&out);
+    assert_eq!(json["mu"], 1.1);
+    assert_eq!(json["rays"].as_array().unwrap().len(), 1);
+}
+
+#[test]
 fn missing_keys() {
     let (out, path) = enumerate_text("dim = 2\n[stiffness]\nrows = [[2, 1], [1, 1]]\n", &[]);
     assert_bad_input(&out, &[&path, "missing `mu`"]);
