@@ -388,7 +388,6 @@ pub(crate) fn run(
             set_bit(&mut z, gap_bit(i));
             kept.push(rays.r(a), &z, rays.gap(a), rays.press(a));
         }
-        let held_now = kept.len() + rays.len();
         let (mut superset_rejects, mut rank_tests, mut rank_rejects) = (0, 0, 0);
         for (new, counts) in chunks {
             superset_rejects += counts.superset_rejects;
@@ -401,7 +400,8 @@ pub(crate) fn run(
             info.rays_created += new.len() as u64;
             kept.append(new);
         }
-        info.peak_rays = info.peak_rays.max(held_now + kept.len());
+        // In memory at once: the old set and the new one.
+        info.peak_rays = info.peak_rays.max(rays.len() + kept.len());
         // Keep the filter while it rejects at least a tenth of what reaches it; turn it on when
         // more than half of the rank tests reject.
         let reached = superset_rejects + rank_tests;

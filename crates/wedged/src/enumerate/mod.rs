@@ -185,7 +185,8 @@ pub struct Info {
     pub adjacency_tests: u64,
     /// New rays created by combining adjacent pairs.
     pub rays_created: u64,
-    /// Largest number of rays held at once.
+    /// Largest number of rays in memory at once: during a node's step, the rays before it and
+    /// the rays after it.
     pub peak_rays: usize,
     /// Candidate tight sets examined (faces).
     pub candidates: u64,

@@ -41,25 +41,14 @@ pub fn demo() -> Problem {
 /// in `[-1, 1)`, `d` uniform in `[0.05, 1)`. The generator is a fixed 64-bit LCG, so the problem
 /// depends on `seed` only (benchmarks and the CLI can name it).
 pub fn random_spd_problem(m: usize, mu: f64, seed: u64) -> Problem {
-    let n = 2 * m;
-    let mut state = seed
-        .wrapping_mul(6364136223846793005)
-        .wrapping_add(1442695040888963407);
-    let mut uniform = move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let a = DMatrix::from_fn(n, n, |_, _| 2.0 * uniform() - 1.0);
-    let d = nalgebra::DVector::from_fn(n, |_, _| 0.05 + 0.95 * uniform());
-    let k = &a * a.transpose() + DMatrix::from_diagonal(&d);
-    Problem::new(2, k, mu).expect("A A^T + diag(d) with d > 0 is positive definite")
+    // Every pair of nodes is within m of each other: the band keeps every entry.
+    banded_spd_problem(m, m, mu, seed)
 }
 
 /// A seeded random 2D problem with local coupling, like a condensed finite-element contact
 /// boundary: `K = A A^T + diag(d)` where `A[i][j]` is nonzero only when the nodes of `i` and `j`
-/// are at most `band` apart along the boundary. Same generator as [`random_spd_problem`].
+/// are at most `band` apart along the boundary (every entry is drawn, so `band >= m - 1` gives
+/// [`random_spd_problem`]).
 pub fn banded_spd_problem(m: usize, band: usize, mu: f64, seed: u64) -> Problem {
     let n = 2 * m;
     let mut state = seed
