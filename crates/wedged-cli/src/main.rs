@@ -4,10 +4,16 @@
 //! line, `error: <what went wrong>`, on stderr. The work lives in the library; this binary reads
 //! problem files ([`problem_file`], [`mtx`]) and writes results ([`summary`], [`output`]).
 
+#[allow(dead_code)]
+mod msh;
 mod mtx;
 mod output;
 mod problem_file;
 mod summary;
+#[allow(dead_code)]
+mod svg;
+#[allow(dead_code)]
+mod vtk;
 
 use std::fmt;
 use std::io::{self, IsTerminal, Write};

@@ -34,6 +34,7 @@
 pub mod cliques;
 pub mod enumerate;
 pub mod examples;
+pub mod fe;
 pub(crate) mod linalg;
 pub mod problem;
 pub mod verify;

@@ -1,0 +1,1 @@
+//! Built-in meshes of the standard test bodies (to be written).
