@@ -4,15 +4,13 @@
 //! line, `error: <what went wrong>`, on stderr. The work lives in the library; this binary reads
 //! problem files ([`problem_file`], [`mtx`]) and writes results ([`summary`], [`output`]).
 
-#[allow(dead_code)]
+mod export;
 mod msh;
 mod mtx;
 mod output;
 mod problem_file;
 mod summary;
-#[allow(dead_code)]
 mod svg;
-#[allow(dead_code)]
 mod vtk;
 
 use std::fmt;
@@ -23,6 +21,8 @@ use std::process::ExitCode;
 
 use clap::builder::PossibleValue;
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use std::fs;
+use wedged::fe::Model;
 use wedged::{
     enumerate_with_progress, EnumerateError, Enumeration, Method, Problem, Progress, Settings,
 };
@@ -36,12 +36,32 @@ Exit codes:
   2  bad input or usage (unreadable or invalid problem file, bad option, unwritable --json path)";
 
 const PROBLEM_FILE: &str = "\
-Problem file (TOML):
+Problem file (TOML), a condensed stiffness:
   dim = 2                      # space dimension (only 2 can be enumerated so far)
   mu = 0.8                     # friction coefficient, > 0
   [stiffness]                  # K on the contact nodes, local frames, normal first
   matrix_market = \"K.mtx\"      # relative to the TOML file's directory, or:
-  # rows = [[2.0, 1.0], [1.0, 1.0]]";
+  # rows = [[2.0, 1.0], [1.0, 1.0]]
+
+or a meshed body, condensed onto its contact nodes:
+  mu = 0.8
+  [mesh]
+  gmsh = \"plug.msh\"            # Gmsh MSH 4.1 (ASCII or binary), physical groups by name; or:
+  # [mesh.generate]            # a built-in body:
+  # kind = \"plug2d\"            #   bottom_width, top_width, height, nx, ny, element = quad|tri
+  #                            # vgroove3d: bottom_width, top_width, height, length, nx, ny, nz,
+  #                            #   element = hex|tet;  frustum3d: bottom_width, top_width,
+  #                            #   height, n, nz, element = hex|tet
+  [material]
+  young = 210e9
+  poisson = 0.3
+  plane = \"strain\"             # 2D: strain | stress
+  [[contact]]                  # contact candidates against a rigid obstacle along the surface
+  group = \"contact\"            # optional: normal = [nx, ny], the body's inward normal
+  [[clamp]]                    # zero displacement
+  group = \"top\"
+  # [[symmetry]]               # roller: zero displacement along the group's normal
+  # group = \"axis\"";
 
 /// Enumerate the wedged configurations of an elastic body in frictional contact with a rigid
 /// obstacle: every equilibrium without load in which the body stays deformed.
@@ -57,7 +77,10 @@ enum Command {
     /// Enumerate the wedged configurations of the problem in a TOML file.
     #[command(after_help = EXIT_CODES, after_long_help = format!("{PROBLEM_FILE}\n\n{EXIT_CODES}"))]
     Enumerate(EnumerateArgs),
-    /// Enumerate the wedged configurations of a built-in four-node example.
+    /// Condense a meshed body onto its contact nodes and export the stiffness (Matrix Market).
+    #[command(after_help = EXIT_CODES, after_long_help = format!("{PROBLEM_FILE}\n\n{EXIT_CODES}"))]
+    Condense(CondenseArgs),
+    /// Run the built-in example: a 2D plug wedged in a V-notch, with JSON, VTU and SVG output.
     #[command(after_help = EXIT_CODES)]
     Demo(DemoArgs),
 }
@@ -77,12 +100,31 @@ struct EnumerateArgs {
     zero_tol: Option<f64>,
     #[command(flatten)]
     json: JsonArg,
+    /// For a meshed body: write one ParaView file per wedged cone, DIR/cone-N.vtu (old
+    /// cone-N.vtu files in DIR are removed).
+    #[arg(long, value_name = "DIR")]
+    vtk: Option<PathBuf>,
+    /// For a meshed body: write one picture per wedged cone, DIR/cone-N.svg (old cone-N.svg files
+    /// in DIR are removed).
+    #[arg(long, value_name = "DIR")]
+    svg: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+struct CondenseArgs {
+    /// The problem file (TOML with a [mesh]; see --help).
+    problem: PathBuf,
+    /// Write the condensed stiffness here (Matrix Market, coordinate real symmetric; written
+    /// atomically). Its comment lines name each contact node's mesh node and frame.
+    #[arg(long, value_name = "K.mtx")]
+    mtx: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]
 struct DemoArgs {
-    #[command(flatten)]
-    json: JsonArg,
+    /// Directory for the demo's JSON, VTU and SVG files.
+    #[arg(long, value_name = "DIR", default_value = "wedged-demo")]
+    out: PathBuf,
 }
 
 #[derive(Debug, Args)]
@@ -174,19 +216,21 @@ fn main() -> ExitCode {
 fn run(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Command::Enumerate(args) => run_enumerate(args),
+        Command::Condense(args) => run_condense(args),
         Command::Demo(args) => run_demo(args),
     }
 }
 
 fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
     let source = args.problem.display().to_string();
-    let problem = problem_file::load(&args.problem, args.mu.is_some())
+    let loaded = problem_file::load(&args.problem, args.mu.is_some())
         .map_err(|e| Failure::Input(e.to_string()))?;
     let problem = match args.mu {
-        Some(mu) => problem
+        Some(mu) => loaded
+            .problem
             .with_mu(mu)
             .map_err(|e| Failure::Input(format!("--mu: {e}")))?,
-        None => problem,
+        None => loaded.problem,
     };
     let mut settings = Settings {
         method: args.method.0,
@@ -195,31 +239,86 @@ fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
     if let Some(t) = args.zero_tol {
         settings.zero_tol = t;
     }
+    if loaded.model.is_none() {
+        for (given, option) in [(args.vtk.is_some(), "--vtk"), (args.svg.is_some(), "--svg")] {
+            if given {
+                return Err(Failure::Input(format!(
+                    "{option} needs a meshed body ([mesh] in the problem file); {source} gives \
+                     a condensed stiffness only"
+                )));
+            }
+        }
+    }
     report(
         &problem,
         &settings,
         &source,
-        None,
-        args.json.json.as_deref(),
+        loaded.model.as_ref(),
+        Outputs {
+            preface: None,
+            json: args.json.json.as_deref(),
+            vtk: args.vtk.as_deref(),
+            svg: args.svg.as_deref(),
+        },
     )
 }
 
+fn run_condense(args: CondenseArgs) -> Result<(), Failure> {
+    let source = args.problem.display().to_string();
+    let model =
+        problem_file::load_model(&args.problem).map_err(|e| Failure::Input(e.to_string()))?;
+    let mut text = summary::model(&source, &model);
+    if let Some(path) = &args.mtx {
+        let bytes = mtx::write_condensed(&model, &source);
+        output::write_atomic(path, bytes.as_bytes(), "Matrix Market file")
+            .map_err(|e| Failure::Input(e.to_string()))?;
+        text.push_str(&format!(
+            "condensed stiffness ({n} x {n}) written to {}\n",
+            path.display(),
+            n = model.k().nrows()
+        ));
+    }
+    write_stdout(&text)
+}
+
 fn run_demo(args: DemoArgs) -> Result<(), Failure> {
-    let problem = wedged::examples::demo();
+    let (model, mu) = wedged::examples::plug2d_demo()
+        .map_err(|e| Failure::Internal(format!("the demo model: {e}")))?;
+    let problem = Problem::new(2, model.k().clone(), mu)
+        .map_err(|e| Failure::Internal(format!("the demo model: {e}")))?;
+    let dir = &args.out;
     let preface = format!(
-        "demo: {} contact nodes of a small elastic block pressed into a notch, with inclined \
-         springs\n(wedged::examples::demo); mu = {}. Use `wedged enumerate FILE.toml` for your \
-         own problem.",
-        problem.nodes(),
-        problem.mu()
+        "demo: a 2D elastic plug (plane strain) in a V-notch, its top clamped, its slanted sides \
+         against the notch walls\n(wedged::examples::plug2d_demo); mu = {mu}. Use `wedged \
+         enumerate FILE.toml` for your own problem."
     );
+    fs::create_dir_all(dir).map_err(|e| {
+        Failure::Input(format!(
+            "{}: cannot create the demo directory: {e}",
+            dir.display()
+        ))
+    })?;
+    let json = dir.join("result.json");
     report(
         &problem,
         &Settings::default(),
         "demo",
-        Some(&preface),
-        args.json.json.as_deref(),
+        Some(&model),
+        Outputs {
+            preface: Some(&preface),
+            json: Some(&json),
+            vtk: Some(dir),
+            svg: Some(dir),
+        },
     )
+}
+
+/// Where a run's results go besides the summary on stdout.
+struct Outputs<'a> {
+    preface: Option<&'a str>,
+    json: Option<&'a Path>,
+    vtk: Option<&'a Path>,
+    svg: Option<&'a Path>,
 }
 
 /// Enumerates and writes the summary and the JSON. The JSON target is opened before the run, so
@@ -228,17 +327,35 @@ fn report(
     problem: &Problem,
     settings: &Settings,
     source: &str,
-    preface: Option<&str>,
-    json: Option<&Path>,
+    model: Option<&Model>,
+    outputs: Outputs,
 ) -> Result<(), Failure> {
+    let Outputs {
+        preface,
+        json,
+        vtk,
+        svg,
+    } = outputs;
     let json = json
         .map(JsonTarget::open)
         .transpose()
         .map_err(|e| Failure::Input(e.to_string()))?;
+    if let Some(dir) = vtk {
+        export::prepare_dir(dir, "--vtk", "vtu").map_err(Failure::Input)?;
+    }
+    if let Some(dir) = svg {
+        export::prepare_dir(dir, "--svg", "svg").map_err(Failure::Input)?;
+    }
     let result = run_library(problem, settings, source)?;
     let json_text = json
         .as_ref()
-        .map(|_| output::to_json(problem, settings, &result));
+        .map(|_| output::to_json(problem, settings, &result, model));
+    let written = match model {
+        Some(model) if vtk.is_some() || svg.is_some() => {
+            export::write_cones(model, problem, &result, vtk, svg).map_err(Failure::Input)?
+        }
+        _ => Vec::new(),
+    };
     let mut stdout_text = String::new();
     match (&json, &json_text) {
         (Some(JsonTarget::Stdout), Some(text)) => stdout_text.push_str(text),
@@ -251,9 +368,13 @@ fn report(
                 Some(JsonTarget::File { path, .. }) => Some(path.as_path()),
                 _ => None,
             };
+            if let Some(model) = model {
+                stdout_text.push_str(&summary::model(source, model));
+            }
             stdout_text.push_str(&summary::render(
                 problem, settings, source, &result, json_path,
             ));
+            stdout_text.push_str(&summary::files(&result, vtk, svg, &written));
         }
     }
     if let (Some(target @ JsonTarget::File { .. }), Some(text)) = (json, &json_text) {

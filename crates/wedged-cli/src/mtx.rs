@@ -505,6 +505,65 @@ fn show(s: &str) -> String {
     format!("{:?}", clip(s))
 }
 
+/// The condensed stiffness of a model as Matrix Market text (coordinate real symmetric, lower
+/// triangle, shortest round-trip decimals), with comment lines naming each contact node's mesh
+/// node and local frame, so that the matrix can be read back exactly.
+pub fn write_condensed(model: &wedged::fe::Model, source: &str) -> String {
+    use std::fmt::Write;
+    let k = model.k();
+    let n = k.nrows();
+    let dim = model.mesh().dim();
+    let b = model.boundary();
+    let mut out = String::new();
+    out.push_str("%%MatrixMarket matrix coordinate real symmetric\n");
+    let _ = writeln!(
+        out,
+        "% condensed stiffness of {source}, written by wedged {}",
+        env!("CARGO_PKG_VERSION")
+    );
+    let _ = writeln!(
+        out,
+        "% {} contact nodes, {dim} rows each, normal first ({}); rows and columns are 1-based",
+        b.contact_nodes.len(),
+        if dim == 2 { "n, t" } else { "n, t1, t2" }
+    );
+    for (i, (&a, f)) in b.contact_nodes.iter().zip(&b.frames).enumerate() {
+        let x = model.mesh().coords()[a];
+        let v = |w: [f64; 3]| {
+            w[..dim]
+                .iter()
+                .map(|c| format!("{c:e}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        let _ = write!(
+            out,
+            "% node {} (rows {}-{}): mesh node {} at {}; n = {}; t1 = {}",
+            i + 1,
+            dim * i + 1,
+            dim * i + dim,
+            a + 1,
+            v(x),
+            v(f.n),
+            v(f.t1)
+        );
+        if dim == 3 {
+            let _ = write!(out, "; t2 = {}", v(f.t2));
+        }
+        out.push('\n');
+    }
+    let entries: Vec<(usize, usize, f64)> = (0..n)
+        .flat_map(|j| (j..n).map(move |i| (i, j)))
+        .filter(|&(i, j)| k[(i, j)] != 0.0)
+        .map(|(i, j)| (i, j, k[(i, j)]))
+        .collect();
+    let _ = writeln!(out, "{n} {n} {}", entries.len());
+    for (i, j, v) in entries {
+        let _ = writeln!(out, "{} {} {v:e}", i + 1, j + 1);
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

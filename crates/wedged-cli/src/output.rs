@@ -18,6 +18,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 use serde_json::ser::Formatter;
 use tempfile::NamedTempFile;
+use wedged::fe::Model;
 use wedged::{Enumeration, Info, Outcome, Problem, Settings};
 
 /// The whole JSON document.
@@ -31,7 +32,68 @@ pub struct Report<'a> {
     pub rays: Vec<RayJson<'a>>,
     pub cones: Vec<ConeJson<'a>>,
     pub info: InfoJson<'a>,
+    /// For a meshed body: the model behind the condensed `K`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model: Option<ModelJson>,
     pub version: &'static str,
+}
+
+/// The finite-element model of a `[mesh]` problem.
+#[derive(Debug, Serialize)]
+pub struct ModelJson {
+    pub mesh_nodes: usize,
+    pub elements: usize,
+    pub dofs: usize,
+    pub eliminated: usize,
+    pub clamped_nodes: usize,
+    pub roller_nodes: usize,
+    /// Nodes of contact groups that are clamped, and so not contact nodes.
+    pub clamped_contact_nodes: usize,
+    /// One per WP node, in WP order.
+    pub contact: Vec<ContactJson>,
+    pub seconds_condense: f64,
+}
+
+/// A WP node: its mesh node (1-based, as in Gmsh) and local frame.
+#[derive(Debug, Serialize)]
+pub struct ContactJson {
+    pub mesh_node: usize,
+    pub x: Vec<f64>,
+    pub n: Vec<f64>,
+    pub t1: Vec<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub t2: Option<Vec<f64>>,
+}
+
+impl ModelJson {
+    pub fn new(model: &Model) -> ModelJson {
+        let mesh = model.mesh();
+        let dim = mesh.dim();
+        let b = model.boundary();
+        let stats = model.stats();
+        ModelJson {
+            mesh_nodes: mesh.node_count(),
+            elements: mesh.elements().len(),
+            dofs: stats.dofs,
+            eliminated: stats.eliminated,
+            clamped_nodes: b.clamped.len(),
+            roller_nodes: b.rollers.len(),
+            clamped_contact_nodes: b.clamped_contact,
+            contact: b
+                .contact_nodes
+                .iter()
+                .zip(&b.frames)
+                .map(|(&a, f)| ContactJson {
+                    mesh_node: a + 1,
+                    x: mesh.coords()[a][..dim].to_vec(),
+                    n: f.n[..dim].to_vec(),
+                    t1: f.t1[..dim].to_vec(),
+                    t2: (dim == 3).then(|| f.t2.to_vec()),
+                })
+                .collect(),
+            seconds_condense: stats.seconds_assembly + stats.seconds_factor + stats.seconds_schur,
+        }
+    }
 }
 
 /// One complementary extreme ray.
@@ -98,7 +160,12 @@ impl<'a> From<&'a Info> for InfoJson<'a> {
 }
 
 impl<'a> Report<'a> {
-    pub fn new(problem: &Problem, settings: &Settings, result: &'a Enumeration) -> Report<'a> {
+    pub fn new(
+        problem: &Problem,
+        settings: &Settings,
+        result: &'a Enumeration,
+        model: Option<&Model>,
+    ) -> Report<'a> {
         Report {
             dim: problem.dim(),
             mu: problem.mu(),
@@ -126,14 +193,20 @@ impl<'a> Report<'a> {
                 })
                 .collect(),
             info: InfoJson::from(&result.info),
+            model: model.map(ModelJson::new),
             version: env!("CARGO_PKG_VERSION"),
         }
     }
 }
 
 /// The JSON text of a result, ending with a newline.
-pub fn to_json(problem: &Problem, settings: &Settings, result: &Enumeration) -> String {
-    let report = Report::new(problem, settings, result);
+pub fn to_json(
+    problem: &Problem,
+    settings: &Settings,
+    result: &Enumeration,
+    model: Option<&Model>,
+) -> String {
+    let report = Report::new(problem, settings, result, model);
     let mut buf = Vec::new();
     let mut ser = serde_json::Serializer::with_formatter(&mut buf, ShallowPretty::default());
     report
@@ -308,6 +381,29 @@ impl JsonTarget {
         temp.persist(&path).map_err(|e| fail(e.error))?;
         Ok(())
     }
+}
+
+/// Writes `bytes` to `path` through a temporary sibling renamed into place, so that a reader
+/// never sees a half-written file. `what` names the file in errors ("VTU file").
+pub fn write_atomic(path: &Path, bytes: &[u8], what: &str) -> Result<(), WriteError> {
+    let fail =
+        |e: io::Error| WriteError(format!("{}: cannot write the {what}: {e}", path.display()));
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".wedged-").suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut temp = builder.tempfile_in(dir).map_err(fail)?;
+    temp.write_all(bytes).map_err(fail)?;
+    temp.as_file().sync_all().map_err(fail)?;
+    temp.persist(path).map_err(|e| fail(e.error))?;
+    Ok(())
 }
 
 #[cfg(test)]

@@ -1,4 +1,5 @@
-//! The problem file: TOML naming the dimension, the friction coefficient and the stiffness.
+//! The problem file: TOML naming the friction coefficient and either a condensed stiffness or a
+//! meshed body with its material and boundary groups.
 //!
 //! ```toml
 //! dim = 2
@@ -9,6 +10,25 @@
 //! # rows = [[2.0, 1.0], [1.0, 1.0]]
 //! ```
 //!
+//! ```toml
+//! mu = 0.8
+//! [mesh]
+//! gmsh = "plug.msh"              # MSH 4.1, ASCII or binary; or a built-in body:
+//! # [mesh.generate]
+//! # kind = "plug2d"              # plug2d | vgroove3d | frustum3d
+//! # bottom_width = 1.0 ...
+//! [material]
+//! young = 210e9
+//! poisson = 0.3
+//! plane = "strain"               # 2D only: strain | stress
+//! [[contact]]
+//! group = "contact"              # optional: normal = [nx, ny(, nz)], the body's inward normal
+//! [[clamp]]
+//! group = "top"
+//! [[symmetry]]                   # rollers: zero displacement along the group's normal
+//! group = "axis"
+//! ```
+//!
 //! Unknown keys are rejected by name. Every error is one line that starts with the file's name.
 
 use std::fmt;
@@ -17,9 +37,11 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::DMatrix;
 use serde::Deserialize;
+use wedged::fe::generate::{Frustum, Plug2d, VGroove};
+use wedged::fe::{BoundarySpec, ContactSpec, Material, Mesh, Model, Plane};
 use wedged::{Problem, ProblemError};
 
-use crate::{mtx, one_line};
+use crate::{msh, mtx, one_line};
 
 /// A problem file that could not be read or is invalid; the message names the file.
 #[derive(Debug)]
@@ -37,12 +59,95 @@ impl std::error::Error for LoadError {}
 #[derive(Debug, Deserialize)]
 #[serde(
     deny_unknown_fields,
-    expecting = "a problem with keys `dim`, `mu` and [stiffness]"
+    expecting = "a problem with `mu` and either [stiffness] or [mesh]"
 )]
 struct RawProblem {
     dim: Option<usize>,
     mu: Option<f64>,
     stiffness: Option<RawStiffness>,
+    mesh: Option<RawMesh>,
+    material: Option<RawMaterial>,
+    #[serde(default)]
+    contact: Vec<RawGroup>,
+    #[serde(default)]
+    clamp: Vec<RawGroup>,
+    #[serde(default)]
+    symmetry: Vec<RawGroup>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a [mesh] table")]
+struct RawMesh {
+    gmsh: Option<PathBuf>,
+    generate: Option<Generate>,
+}
+
+/// A built-in body. Widths, heights and lengths are in the units of the material's modulus.
+#[derive(Debug, Deserialize)]
+#[serde(
+    tag = "kind",
+    deny_unknown_fields,
+    expecting = "a [mesh.generate] table with `kind`"
+)]
+enum Generate {
+    #[serde(rename = "plug2d")]
+    Plug2d {
+        bottom_width: f64,
+        top_width: f64,
+        height: f64,
+        nx: usize,
+        ny: usize,
+        #[serde(default)]
+        element: Option<String>,
+    },
+    #[serde(rename = "vgroove3d")]
+    VGroove {
+        bottom_width: f64,
+        top_width: f64,
+        height: f64,
+        length: f64,
+        nx: usize,
+        ny: usize,
+        nz: usize,
+        #[serde(default)]
+        element: Option<String>,
+    },
+    #[serde(rename = "frustum3d")]
+    Frustum {
+        bottom_width: f64,
+        top_width: f64,
+        height: f64,
+        n: usize,
+        nz: usize,
+        #[serde(default)]
+        element: Option<String>,
+    },
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a [material] table")]
+struct RawMaterial {
+    young: f64,
+    poisson: f64,
+    plane: Option<String>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a table with `group` and optionally `normal`"
+)]
+struct RawGroup {
+    group: String,
+    normal: Option<Vec<f64>>,
+}
+
+/// A loaded problem: the WP, and for a meshed body the model that produced it.
+pub struct Loaded {
+    /// The condensed problem.
+    pub problem: Problem,
+    /// The finite-element model, for a `[mesh]` problem.
+    pub model: Option<Model>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -52,17 +157,10 @@ struct RawStiffness {
     rows: Option<Vec<Vec<f64>>>,
 }
 
-/// Reads and validates the problem in the TOML file at `path`.
-pub fn load(path: &Path, mu_on_command_line: bool) -> Result<Problem, LoadError> {
-    let name = path.display();
-    let err = |m: String| LoadError(format!("{name}: {m}"));
-    let text =
-        fs::read_to_string(path).map_err(|e| err(format!("cannot read the problem file: {e}")))?;
-    let raw: RawProblem = toml::from_str(&text).map_err(|e| err(toml_message(&text, &e)))?;
-
-    let dim = raw
-        .dim
-        .ok_or_else(|| err("missing `dim` (the space dimension, 2 or 3)".into()))?;
+/// Reads and validates the problem in the TOML file at `path`. With `mu_on_command_line` the
+/// file's `mu` is optional and a placeholder 1.0 stands for it (the caller replaces it).
+pub fn load(path: &Path, mu_on_command_line: bool) -> Result<Loaded, LoadError> {
+    let (raw, err) = read_raw(path)?;
     // With --mu on the command line the file's `mu` is not needed (and not read): the caller
     // replaces this placeholder with the command-line value, which the library validates.
     let mu = if mu_on_command_line {
@@ -72,8 +170,84 @@ pub fn load(path: &Path, mu_on_command_line: bool) -> Result<Problem, LoadError>
             err("missing `mu` (the friction coefficient, > 0; or pass --mu)".into())
         })?
     };
+    if raw.mesh.is_some() {
+        if let Some(dim) = raw.dim {
+            if dim != 2 && dim != 3 {
+                return Err(err(format!("dimension must be 2 or 3, got {dim}")));
+            }
+        }
+        let model = load_model_from(path, raw)?;
+        let problem = Problem::new(model.mesh().dim(), model.k().clone(), mu)
+            .map_err(|e| err(model_problem_message(e)))?;
+        return Ok(Loaded {
+            problem,
+            model: Some(model),
+        });
+    }
+    let problem = load_stiffness(path, raw, mu)?;
+    Ok(Loaded {
+        problem,
+        model: None,
+    })
+}
+
+/// Reads a `[mesh]` problem file and condenses it; `mu` is not needed.
+pub fn load_model(path: &Path) -> Result<Model, LoadError> {
+    let (raw, err) = read_raw(path)?;
+    if raw.mesh.is_none() {
+        return Err(err(
+            "has no [mesh] table: only a meshed body can be condensed".to_string(),
+        ));
+    }
+    let model = load_model_from(path, raw)?;
+    // The condensed stiffness must be positive definite for the WP: say so now.
+    Problem::new(model.mesh().dim(), model.k().clone(), 1.0)
+        .map_err(|e| err(model_problem_message(e)))?;
+    Ok(model)
+}
+
+type Err = Box<dyn Fn(String) -> LoadError>;
+
+fn read_raw(path: &Path) -> Result<(RawProblem, Err), LoadError> {
+    let name = path.display().to_string();
+    let err: Err = Box::new(move |m: String| LoadError(format!("{name}: {m}")));
+    let text =
+        fs::read_to_string(path).map_err(|e| err(format!("cannot read the problem file: {e}")))?;
+    let raw: RawProblem = toml::from_str(&text).map_err(|e| err(toml_message(&text, &e)))?;
+    Ok((raw, err))
+}
+
+/// Why a condensed stiffness is not a valid WP, in the terms of the model.
+fn model_problem_message(e: ProblemError) -> String {
+    match e {
+        ProblemError::NotPositiveDefinite { node, .. } => format!(
+            "the condensed stiffness is singular at contact node {node}: the body can move \
+             rigidly; clamp part of it with a [[clamp]] group (floating bodies are not supported)"
+        ),
+        e => format!("the condensed stiffness: {e}"),
+    }
+}
+
+fn load_stiffness(path: &Path, raw: RawProblem, mu: f64) -> Result<Problem, LoadError> {
+    let name = path.display();
+    let err = |m: String| LoadError(format!("{name}: {m}"));
+    for (present, key) in [
+        (raw.material.is_some(), "[material]"),
+        (!raw.contact.is_empty(), "[[contact]]"),
+        (!raw.clamp.is_empty(), "[[clamp]]"),
+        (!raw.symmetry.is_empty(), "[[symmetry]]"),
+    ] {
+        if present {
+            return Err(err(format!(
+                "{key} needs a [mesh]; with [stiffness] it has no use"
+            )));
+        }
+    }
+    let dim = raw
+        .dim
+        .ok_or_else(|| err("missing `dim` (the space dimension, 2 or 3)".into()))?;
     let stiffness = raw.stiffness.ok_or_else(|| {
-        err("missing the [stiffness] table (with `matrix_market = \"K.mtx\"` or `rows = [[...], ...]`)"
+        err("missing the [stiffness] table (with `matrix_market = \"K.mtx\"` or `rows = [[...], ...]`), or a [mesh]"
             .into())
     })?;
 
@@ -105,6 +279,167 @@ pub fn load(path: &Path, mu_on_command_line: bool) -> Result<Problem, LoadError>
         ProblemError::InvalidDim(_) | ProblemError::InvalidMu(_) => err(e.to_string()),
         _ => LoadError(format!("{matrix_source}: {e}")),
     })
+}
+
+fn load_model_from(path: &Path, raw: RawProblem) -> Result<Model, LoadError> {
+    let name = path.display();
+    let err = |m: String| LoadError(format!("{name}: {m}"));
+    if raw.stiffness.is_some() {
+        return Err(err(
+            "has both [stiffness] and [mesh]; give exactly one".to_string()
+        ));
+    }
+    let raw_mesh = raw.mesh.expect("checked by the caller");
+    let mesh = match (raw_mesh.gmsh, raw_mesh.generate) {
+        (Some(_), Some(_)) => {
+            return Err(err(
+                "[mesh] has both `gmsh` and [mesh.generate]; give exactly one".into(),
+            ))
+        }
+        (None, None) => {
+            return Err(err(
+                "[mesh] needs `gmsh = \"body.msh\"` or a [mesh.generate] table".into(),
+            ))
+        }
+        (Some(relative), None) => {
+            let base = path.parent().unwrap_or(Path::new(""));
+            msh::read(&base.join(relative)).map_err(|e| LoadError(one_line(&e.to_string())))?
+        }
+        (None, Some(generate)) => {
+            generate_mesh(generate).map_err(|m| err(format!("[mesh.generate]: {m}")))?
+        }
+    };
+    if let Some(dim) = raw.dim {
+        if dim != mesh.dim() {
+            return Err(err(format!(
+                "`dim = {dim}`, but the mesh is {}D",
+                mesh.dim()
+            )));
+        }
+    }
+    let material = raw
+        .material
+        .ok_or_else(|| err("missing the [material] table (`young`, `poisson`)".into()))?;
+    let plane = match material.plane.as_deref() {
+        None | Some("strain") => Plane::Strain,
+        Some("stress") => Plane::Stress,
+        Some(other) => {
+            return Err(err(format!(
+                "[material] plane = \"{other}\": expected \"strain\" or \"stress\""
+            )))
+        }
+    };
+    let material = Material::new(material.young, material.poisson, plane)
+        .map_err(|e| err(format!("[material]: {e}")))?;
+    let dim = mesh.dim();
+    let normal = |g: &RawGroup, table: &str| -> Result<Option<[f64; 3]>, LoadError> {
+        match &g.normal {
+            None => Ok(None),
+            Some(v) if v.len() == dim => {
+                let mut n = [0.0; 3];
+                n[..dim].copy_from_slice(v);
+                Ok(Some(n))
+            }
+            Some(v) => Err(err(format!(
+                "[[{table}]] group '{}': `normal` has {} components, the mesh is {dim}D",
+                g.group,
+                v.len()
+            ))),
+        }
+    };
+    for g in &raw.clamp {
+        if g.normal.is_some() {
+            return Err(err(format!(
+                "[[clamp]] group '{}': a clamp has no `normal` (it fixes every direction)",
+                g.group
+            )));
+        }
+    }
+    let spec = BoundarySpec {
+        contact: raw
+            .contact
+            .iter()
+            .map(|g| {
+                Ok(ContactSpec {
+                    group: g.group.clone(),
+                    normal: normal(g, "contact")?,
+                })
+            })
+            .collect::<Result<_, LoadError>>()?,
+        clamp: raw.clamp.iter().map(|g| g.group.clone()).collect(),
+        symmetry: raw
+            .symmetry
+            .iter()
+            .map(|g| Ok((g.group.clone(), normal(g, "symmetry")?)))
+            .collect::<Result<_, LoadError>>()?,
+    };
+    Model::build(mesh, material, &spec).map_err(|e| err(e.to_string()))
+}
+
+fn generate_mesh(generate: Generate) -> Result<Mesh, String> {
+    let simplices = |element: Option<String>, brick: &str, simplex: &str| match element.as_deref() {
+        None => Ok(false),
+        Some(e) if e == brick => Ok(false),
+        Some(e) if e == simplex => Ok(true),
+        Some(e) => Err(format!(
+            "element = \"{e}\": expected \"{brick}\" or \"{simplex}\""
+        )),
+    };
+    let mesh = match generate {
+        Generate::Plug2d {
+            bottom_width,
+            top_width,
+            height,
+            nx,
+            ny,
+            element,
+        } => Plug2d {
+            bottom_width,
+            top_width,
+            height,
+            nx,
+            ny,
+            simplices: simplices(element, "quad", "tri")?,
+        }
+        .mesh(),
+        Generate::VGroove {
+            bottom_width,
+            top_width,
+            height,
+            length,
+            nx,
+            ny,
+            nz,
+            element,
+        } => VGroove {
+            bottom_width,
+            top_width,
+            height,
+            length,
+            nx,
+            ny,
+            nz,
+            simplices: simplices(element, "hex", "tet")?,
+        }
+        .mesh(),
+        Generate::Frustum {
+            bottom_width,
+            top_width,
+            height,
+            n,
+            nz,
+            element,
+        } => Frustum {
+            bottom_width,
+            top_width,
+            height,
+            n,
+            nz,
+            simplices: simplices(element, "hex", "tet")?,
+        }
+        .mesh(),
+    };
+    mesh.map_err(|e| e.to_string())
 }
 
 /// The stiffness from its rows; the rows must all have the same length (squareness and the rest
@@ -149,7 +484,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("p.toml");
         fs::write(&path, text).unwrap();
-        load(&path, false)
+        load(&path, false).map(|l| l.problem)
     }
 
     #[test]

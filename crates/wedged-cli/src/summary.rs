@@ -7,7 +7,13 @@
 use std::fmt::Write;
 use std::path::Path;
 
+use std::path::PathBuf;
+
+use wedged::fe::{ElementKind, Model, Plane};
 use wedged::{ContactPattern, Enumeration, Info, NodeStatus, Outcome, Problem, Settings};
+
+/// Contact nodes listed one per line in the model summary; beyond, the JSON has them.
+const CONTACT_LIST_LIMIT: usize = 24;
 
 /// Largest number of nodes whose statuses are printed as full names.
 const FULL_NAMES_UP_TO: usize = 8;
@@ -196,7 +202,7 @@ fn more(out: &mut String, total: usize, what: &str) {
 }
 
 /// Increasing indices with runs of three or more shortened: `0-3 7 9 10`.
-fn ranges(indices: &[usize]) -> String {
+pub(crate) fn ranges(indices: &[usize]) -> String {
     let mut parts = Vec::new();
     let mut i = 0;
     while i < indices.len() {
@@ -287,6 +293,158 @@ fn info_line(info: &Info) -> String {
         ));
     }
     parts.join("; ")
+}
+
+/// Four significant digits, without trailing noise: `0.8944`, `-1.2e-5`, `2.1e11`.
+fn g4(x: f64) -> String {
+    if x == 0.0 {
+        return "0".to_string();
+    }
+    let a = x.abs();
+    if (1e-3..1e5).contains(&a) {
+        let digits = (3 - a.log10().floor() as i32).max(0) as usize;
+        let s = format!("{x:.digits$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
+fn vector(v: &[f64]) -> String {
+    format!(
+        "({})",
+        v.iter().map(|&x| g4(x)).collect::<Vec<_>>().join(", ")
+    )
+}
+
+/// The finite-element model: mesh, material, boundary, condensation.
+pub fn model(source: &str, model: &Model) -> String {
+    let mesh = model.mesh();
+    let dim = mesh.dim();
+    let b = model.boundary();
+    let stats = model.stats();
+    let mut out = String::new();
+    let mut kinds: Vec<(ElementKind, usize)> = Vec::new();
+    for e in mesh.elements() {
+        match kinds.iter_mut().find(|(k, _)| *k == e.kind) {
+            Some((_, n)) => *n += 1,
+            None => kinds.push((e.kind, 1)),
+        }
+    }
+    let kinds = kinds
+        .iter()
+        .map(|(k, n)| format!("{n} {}{}", k.name(), if *n == 1 { "" } else { "s" }))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let material = model.material();
+    let plane = match (dim, material.plane()) {
+        (3, _) => "3D",
+        (_, Plane::Strain) => "plane strain",
+        (_, Plane::Stress) => "plane stress",
+    };
+    let _ = writeln!(
+        out,
+        "model {source}: {dim}D mesh, {}, {kinds}; {plane}, E = {}, nu = {}",
+        plural(mesh.node_count(), "node", "nodes"),
+        g4(material.young()),
+        g4(material.poisson())
+    );
+    let clamped_contact = if b.clamped_contact > 0 {
+        format!(
+            " ({} of the contact groups clamped, so not contact nodes)",
+            plural(b.clamped_contact, "node", "nodes")
+        )
+    } else {
+        String::new()
+    };
+    let _ = writeln!(
+        out,
+        "  {} dofs: {}{clamped_contact}, {}, {}",
+        stats.dofs,
+        plural(b.contact_nodes.len(), "contact node", "contact nodes"),
+        plural(b.clamped.len(), "clamped node", "clamped nodes"),
+        plural(b.rollers.len(), "roller node", "roller nodes"),
+    );
+    let _ = writeln!(
+        out,
+        "  condensed {} unknowns onto {} in {} (assembly {}, sparse Cholesky {} with {} \
+         nonzeros in K_oo, Schur complement {})",
+        stats.eliminated,
+        dim * stats.contact_nodes,
+        seconds_text(stats.seconds_assembly + stats.seconds_factor + stats.seconds_schur),
+        seconds_text(stats.seconds_assembly),
+        seconds_text(stats.seconds_factor),
+        stats.nnz_oo,
+        seconds_text(stats.seconds_schur),
+    );
+    let m = b.contact_nodes.len();
+    let _ = writeln!(
+        out,
+        "  contact nodes (WP node: mesh node at position, inward normal n{}):",
+        if dim == 2 {
+            ", tangent t = n turned +90 degrees"
+        } else {
+            "; t1, t2 in the JSON"
+        }
+    );
+    for (i, (&a, f)) in b
+        .contact_nodes
+        .iter()
+        .zip(&b.frames)
+        .enumerate()
+        .take(CONTACT_LIST_LIMIT)
+    {
+        let x = &mesh.coords()[a];
+        let _ = writeln!(
+            out,
+            "    {:>4}: mesh node {} at {}, n = {}",
+            i + 1,
+            a + 1,
+            vector(&x[..dim]),
+            vector(&f.n[..dim])
+        );
+    }
+    if m > CONTACT_LIST_LIMIT {
+        let _ = writeln!(out, "    ... {} more in the JSON", m - CONTACT_LIST_LIMIT);
+    }
+    out.push('\n');
+    out
+}
+
+/// Which VTU and SVG files were written.
+pub fn files(
+    result: &Enumeration,
+    vtk: Option<&Path>,
+    svg: Option<&Path>,
+    written: &[PathBuf],
+) -> String {
+    let mut out = String::new();
+    for (dir, ext, what) in [(vtk, "vtu", "ParaView file"), (svg, "svg", "picture")] {
+        let Some(dir) = dir else { continue };
+        let n = written
+            .iter()
+            .filter(|p| p.extension().is_some_and(|e| e == ext))
+            .count();
+        if result.cones.is_empty() {
+            let _ = writeln!(
+                out,
+                "no wedged cone, so no .{ext} file was written to {}",
+                dir.display()
+            );
+        } else {
+            let _ = writeln!(
+                out,
+                "{} written to {} (cone-N.{ext}, one {what} per cone)",
+                plural(n, &format!(".{ext} file"), &format!(".{ext} files")),
+                dir.display()
+            );
+        }
+    }
+    out
 }
 
 #[cfg(test)]

@@ -209,6 +209,55 @@ pub struct Enumeration {
     pub info: Info,
 }
 
+impl Enumeration {
+    /// The centroid of a cone's rays, `(u, r)`: a solution in the cone's relative interior,
+    /// normalised like the rays (`sum r_n = 1`).
+    pub fn cone_centroid(&self, cone: &Cone) -> (Vec<f64>, Vec<f64>) {
+        let n = self.rays.first().map_or(0, |r| r.u.len());
+        let mut u = vec![0.0; n];
+        let mut r = vec![0.0; n];
+        let w = 1.0 / cone.rays.len().max(1) as f64;
+        for &k in &cone.rays {
+            for i in 0..n {
+                u[i] += w * self.rays[k].u[i];
+                r[i] += w * self.rays[k].r[i];
+            }
+        }
+        (u, r)
+    }
+
+    /// The per-node status of every strictly positive combination of a cone's rays, decided
+    /// combinatorially from the rays' statuses: separated if some ray separates the node;
+    /// grazing if every ray grazes; slip in one direction if every pressing ray slips that way
+    /// (grazing rays add nothing); stick otherwise.
+    pub fn cone_status(&self, cone: &Cone) -> Vec<NodeStatus> {
+        let m = self.rays.first().map_or(0, |r| r.status.len());
+        (0..m)
+            .map(|i| {
+                let statuses: Vec<NodeStatus> =
+                    cone.rays.iter().map(|&k| self.rays[k].status[i]).collect();
+                if statuses.contains(&NodeStatus::Separated) {
+                    return NodeStatus::Separated;
+                }
+                let pressing: Vec<NodeStatus> = statuses
+                    .into_iter()
+                    .filter(|&s| s != NodeStatus::Grazing)
+                    .collect();
+                match pressing.first() {
+                    None => NodeStatus::Grazing,
+                    Some(&first)
+                        if (first == NodeStatus::SlipPlus || first == NodeStatus::SlipMinus)
+                            && pressing.iter().all(|&s| s == first) =>
+                    {
+                        first
+                    }
+                    Some(_) => NodeStatus::Stick,
+                }
+            })
+            .collect()
+    }
+}
+
 /// Why an enumeration could not give an answer.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum EnumerateError {

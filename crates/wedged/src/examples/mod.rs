@@ -37,6 +37,94 @@ pub fn demo() -> Problem {
     Problem::new(2, k, 1.0).expect("the demo stiffness is symmetric positive definite")
 }
 
+/// The demo body: a 2D plug in a V-notch (plane strain, steel), its top edge clamped, its two
+/// slanted sides against the notch walls, condensed onto those sides; and a friction coefficient
+/// at which it wedges. Bottom width 1, top width 2, height 1 (walls 26.6 degrees off vertical),
+/// 8 x 6 quadrilaterals: 12 contact nodes.
+pub fn plug2d_demo() -> Result<(crate::fe::Model, f64), crate::fe::FeError> {
+    use crate::fe::{generate::Plug2d, Material, Model, Plane};
+    let mesh = Plug2d {
+        bottom_width: 1.0,
+        top_width: 2.0,
+        height: 1.0,
+        nx: PLUG2D_DEMO_DIVISIONS.0,
+        ny: PLUG2D_DEMO_DIVISIONS.1,
+        simplices: false,
+    }
+    .mesh()?;
+    let model = Model::build(
+        mesh,
+        Material::new(210e9, 0.3, Plane::Strain)?,
+        &plug_spec(),
+    )?;
+    Ok((model, PLUG2D_DEMO_MU))
+}
+
+/// The condensation benchmark bodies: a wide, shallow 2D plug (bottom width 10, top width 12,
+/// height 1, nearly square elements) and a wide 3D V-groove plug (bottom width 30, top width 32,
+/// height 1, length 8), each steel, top clamped, both slanted sides in contact. Sizes in
+/// BENCHMARKS.md: `wide_plug2d(989, 100)` has 200,000 dofs and 200 contact nodes;
+/// `wide_vgroove(332, 24, 3)` has 99,900 dofs and 150 contact nodes.
+pub fn wide_plug2d(nx: usize, ny: usize) -> Result<crate::fe::Model, crate::fe::FeError> {
+    use crate::fe::{generate::Plug2d, Material, Model, Plane};
+    let mesh = Plug2d {
+        bottom_width: 10.0,
+        top_width: 12.0,
+        height: 1.0,
+        nx,
+        ny,
+        simplices: false,
+    }
+    .mesh()?;
+    Model::build(
+        mesh,
+        Material::new(210e9, 0.3, Plane::Strain)?,
+        &plug_spec(),
+    )
+}
+
+/// See [`wide_plug2d`].
+pub fn wide_vgroove(
+    nx: usize,
+    ny: usize,
+    nz: usize,
+) -> Result<crate::fe::Model, crate::fe::FeError> {
+    use crate::fe::{generate::VGroove, Material, Model, Plane};
+    let mesh = VGroove {
+        bottom_width: 30.0,
+        top_width: 32.0,
+        height: 1.0,
+        length: 8.0,
+        nx,
+        ny,
+        nz,
+        simplices: false,
+    }
+    .mesh()?;
+    Model::build(
+        mesh,
+        Material::new(210e9, 0.3, Plane::Strain)?,
+        &plug_spec(),
+    )
+}
+
+/// Contact on the generated group `contact`, clamp on `top`.
+fn plug_spec() -> crate::fe::BoundarySpec {
+    crate::fe::BoundarySpec {
+        contact: vec![crate::fe::ContactSpec {
+            group: "contact".to_string(),
+            normal: None,
+        }],
+        clamp: vec!["top".to_string()],
+        symmetry: vec![],
+    }
+}
+
+/// Divisions (across, up) of the demo plug.
+pub const PLUG2D_DEMO_DIVISIONS: (usize, usize) = (8, 6);
+/// Friction coefficient of the demo.
+pub const PLUG2D_DEMO_MU: f64 = 1.8;
+
 /// A seeded random 2D problem with `K = A A^T + diag(d)`: `A` is `2m x 2m` with entries uniform
 /// in `[-1, 1)`, `d` uniform in `[0.05, 1)`. The generator is a fixed 64-bit LCG, so the problem
 /// depends on `seed` only (benchmarks and the CLI can name it).

@@ -61,7 +61,10 @@ impl Material {
     /// Lamé's first parameter `lambda` and the shear modulus `G`.
     pub fn lame(&self) -> (f64, f64) {
         let (e, nu) = (self.young, self.poisson);
-        (e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), e / (2.0 * (1.0 + nu)))
+        (
+            e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+            e / (2.0 * (1.0 + nu)),
+        )
     }
 
     /// The elasticity matrix `D` with `sigma = D eps`, engineering shear strains.
@@ -101,7 +104,17 @@ impl Material {
                 DMatrix::from_row_slice(
                     3,
                     3,
-                    &[c, c * nu, 0.0, c * nu, c, 0.0, 0.0, 0.0, c * (1.0 - nu) / 2.0],
+                    &[
+                        c,
+                        c * nu,
+                        0.0,
+                        c * nu,
+                        c,
+                        0.0,
+                        0.0,
+                        0.0,
+                        c * (1.0 - nu) / 2.0,
+                    ],
                 )
             }
         }

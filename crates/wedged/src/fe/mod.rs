@@ -198,6 +198,9 @@ pub enum FeError {
         node: usize,
         dim: usize,
     },
+    /// Bad parameters of a built-in mesh generator.
+    #[error("{0}")]
+    InvalidGeometry(String),
     /// A bad boundary specification (no contact group, a zero normal, ...).
     #[error("{0}")]
     InvalidBoundary(String),

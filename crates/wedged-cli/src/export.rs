@@ -1,0 +1,131 @@
+//! Per-cone output files of a meshed problem: `cone-N.vtu` (ParaView) and `cone-N.svg`
+//! (a picture), one per wedged cone, `N` being the cone's 0-based index in the summary and the
+//! JSON (zero-padded to a common width, so that files sort in order). Each shows the cone's centroid (the mean of its rays, a
+//! solution in its relative interior, normalised to `sum r_n = 1`) mapped back to the mesh; the
+//! VTU files also carry each ray's displacement.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use wedged::fe::Model;
+use wedged::{Enumeration, Problem};
+
+use crate::output::write_atomic;
+use crate::svg::svg_string;
+use crate::vtk::{vtu_bytes, View};
+
+/// Creates `dir` (and its parents) and removes the `cone-N.vtu` / `cone-N.svg` files of an
+/// earlier run, so that the directory holds exactly this run's cones. Called before the run, so
+/// that an unusable directory fails early.
+pub fn prepare_dir(dir: &Path, option: &str, extension: &str) -> Result<(), String> {
+    if dir.exists() && !dir.is_dir() {
+        return Err(format!(
+            "{}: {option} needs a directory, and this is a file",
+            dir.display()
+        ));
+    }
+    fs::create_dir_all(dir).map_err(|e| {
+        format!(
+            "{}: cannot create the {option} directory: {e}",
+            dir.display()
+        )
+    })?;
+    let entries = fs::read_dir(dir)
+        .map_err(|e| format!("{}: cannot read the {option} directory: {e}", dir.display()))?;
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        if is_cone_file(&name, extension) {
+            fs::remove_file(entry.path()).map_err(|e| {
+                format!(
+                    "{}: cannot remove the old {}: {e}",
+                    entry.path().display(),
+                    name
+                )
+            })?;
+        }
+    }
+    Ok(())
+}
+
+/// `cone-<digits>.<extension>`.
+fn is_cone_file(name: &str, extension: &str) -> bool {
+    name.strip_prefix("cone-")
+        .and_then(|rest| rest.strip_suffix(extension))
+        .and_then(|rest| rest.strip_suffix('.'))
+        .is_some_and(|digits| !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// Writes the files of every cone; returns the paths written.
+pub fn write_cones(
+    model: &Model,
+    problem: &Problem,
+    result: &Enumeration,
+    vtk: Option<&Path>,
+    svg: Option<&Path>,
+) -> Result<Vec<PathBuf>, String> {
+    let mut written = Vec::new();
+    let count = result.cones.len();
+    let width = count.saturating_sub(1).to_string().len();
+    for (c, cone) in result.cones.iter().enumerate() {
+        let (u, _) = result.cone_centroid(cone);
+        let state = model.recover(&u);
+        let status = result.cone_status(cone);
+        let ray_states: Vec<(usize, wedged::fe::Configuration)> = cone
+            .rays
+            .iter()
+            .map(|&k| (k, model.recover(&result.rays[k].u)))
+            .collect();
+        let rays: Vec<(usize, &wedged::fe::Configuration)> =
+            ray_states.iter().map(|(k, s)| (*k, s)).collect();
+        let pressed = status.iter().filter(|s| s.pressed()).count();
+        let separated = status.iter().filter(|s| s.gap_open()).count();
+        // Indices are 0-based, as in the summary's tables and the JSON.
+        let title = format!(
+            "cone #{c} of {count}, mu = {}: {} #{}; {pressed} of {} contact nodes pressed, \
+             {separated} separated",
+            problem.mu(),
+            if cone.rays.len() == 1 { "ray" } else { "rays" },
+            crate::summary::ranges(&cone.rays),
+            status.len()
+        );
+        let view = View {
+            mesh: model.mesh(),
+            boundary: model.boundary(),
+            status: &status,
+            state: &state,
+            rays: &rays,
+            title,
+        };
+        let stem = format!("cone-{c:0width$}");
+        if let Some(dir) = vtk {
+            let path = dir.join(format!("{stem}.vtu"));
+            let bytes = vtu_bytes(&view).map_err(|e| format!("{}: {e}", path.display()))?;
+            write_atomic(&path, &bytes, "VTU file").map_err(|e| e.to_string())?;
+            written.push(path);
+        }
+        if let Some(dir) = svg {
+            let path = dir.join(format!("{stem}.svg"));
+            write_atomic(&path, svg_string(&view).as_bytes(), "SVG file")
+                .map_err(|e| e.to_string())?;
+            written.push(path);
+        }
+    }
+    Ok(written)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_cone_files_are_recognised() {
+        assert!(is_cone_file("cone-1.vtu", "vtu"));
+        assert!(is_cone_file("cone-012.svg", "svg"));
+        assert!(!is_cone_file("cone-.vtu", "vtu"));
+        assert!(!is_cone_file("cone-1.svg", "vtu"));
+        assert!(!is_cone_file("mycone-1.vtu", "vtu"));
+        assert!(!is_cone_file("cone-1a.vtu", "vtu"));
+        assert!(!is_cone_file("result.json", "vtu"));
+    }
+}

@@ -1,0 +1,414 @@
+//! The binary on meshed bodies: `[mesh]` problem files (generated and Gmsh), `--vtk`, `--svg`,
+//! `condense --mtx`, and the errors of the finite-element front end.
+
+use std::fs;
+use std::path::Path;
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn wedged(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wedged"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn fixture(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8(bytes.to_vec()).unwrap()
+}
+
+fn assert_success(out: &Output) {
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "stdout:\n{}\nstderr:\n{}",
+        text(&out.stdout),
+        text(&out.stderr)
+    );
+}
+
+/// Exit code 2, stderr one line `error: ...` containing every needle, no panic.
+fn assert_bad_input(out: &Output, needles: &[&str]) {
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "stderr: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(err.starts_with("error: "), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err}");
+    for needle in needles {
+        assert!(err.contains(needle), "{needle:?} not in {err}");
+    }
+}
+
+const PLUG: &str = r#"
+mu = 2.0
+[mesh.generate]
+kind = "plug2d"
+bottom_width = 1.0
+top_width = 2.0
+height = 1.0
+nx = 6
+ny = 4
+[material]
+young = 210e9
+poisson = 0.3
+plane = "strain"
+[[contact]]
+group = "contact"
+[[clamp]]
+group = "top"
+"#;
+
+fn write(dir: &tempfile::TempDir, name: &str, content: &str) -> String {
+    let path = dir.path().join(name);
+    fs::write(&path, content).unwrap();
+    path.display().to_string()
+}
+
+fn json_file(path: &Path) -> Value {
+    serde_json::from_str(&fs::read_to_string(path).unwrap()).unwrap()
+}
+
+fn count(dir: &Path, ext: &str) -> usize {
+    fs::read_dir(dir)
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .extension()
+                .is_some_and(|x| x == ext)
+        })
+        .count()
+}
+
+fn floats(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
+#[test]
+fn a_generated_plug_writes_json_vtu_and_svg() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(&dir, "plug.toml", PLUG);
+    let out_dir = dir.path().join("out");
+    // A stale file of an earlier run is removed; another file is left alone.
+    fs::create_dir_all(&out_dir).unwrap();
+    fs::write(out_dir.join("cone-99.vtu"), "old").unwrap();
+    fs::write(out_dir.join("notes.txt"), "mine").unwrap();
+    let json = dir.path().join("r.json");
+    let out = wedged(&[
+        "enumerate",
+        &p,
+        "--json",
+        json.to_str().unwrap(),
+        "--vtk",
+        out_dir.to_str().unwrap(),
+        "--svg",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert_success(&out);
+    let summary = text(&out.stdout);
+    assert!(
+        summary.contains("model ") && summary.contains("4-node quadrilaterals"),
+        "{summary}"
+    );
+    assert!(summary.contains("contact nodes"), "{summary}");
+    let report = json_file(&json);
+    let cones = report["cones"].as_array().unwrap().len();
+    assert!(cones > 0, "the plug wedges at mu = 2");
+    assert_eq!(count(&out_dir, "vtu"), cones);
+    assert_eq!(count(&out_dir, "svg"), cones);
+    assert!(!out_dir.join("cone-99.vtu").exists());
+    assert!(out_dir.join("notes.txt").exists());
+    assert!(summary.contains(&format!("{cones} .vtu file")), "{summary}");
+    let model = &report["model"];
+    assert_eq!(model["contact"].as_array().unwrap().len(), 8);
+    assert_eq!(model["clamped_contact_nodes"], 2);
+    let vtu = fs::read_to_string(out_dir.join("cone-0.vtu")).unwrap();
+    assert!(vtu.contains("UnstructuredGrid") && vtu.contains("von_mises"));
+    let svg = fs::read_to_string(out_dir.join("cone-0.svg")).unwrap();
+    assert!(svg.starts_with("<?xml") || svg.starts_with("<svg"));
+}
+
+#[test]
+fn condense_then_enumerate_the_matrix_gives_the_same_rays() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(&dir, "plug.toml", PLUG);
+    let k = dir.path().join("K.mtx");
+    let out = wedged(&["condense", &p, "--mtx", k.to_str().unwrap()]);
+    assert_success(&out);
+    assert!(
+        text(&out.stdout).contains("written to"),
+        "{}",
+        text(&out.stdout)
+    );
+    let q = write(
+        &dir,
+        "k.toml",
+        "dim = 2\nmu = 2.0\n[stiffness]\nmatrix_market = \"K.mtx\"\n",
+    );
+    let a = wedged(&["enumerate", &p, "--json", "-"]);
+    let b = wedged(&["enumerate", &q, "--json", "-"]);
+    assert_success(&a);
+    assert_success(&b);
+    let (a, b): (Value, Value) = (
+        serde_json::from_slice(&a.stdout).unwrap(),
+        serde_json::from_slice(&b.stdout).unwrap(),
+    );
+    assert_eq!(
+        a["rays"].as_array().unwrap().len(),
+        b["rays"].as_array().unwrap().len()
+    );
+    for (x, y) in a["rays"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(b["rays"].as_array().unwrap())
+    {
+        assert_eq!(x["status"], y["status"]);
+        for key in ["u", "r"] {
+            let (x, y) = (floats(&x[key]), floats(&y[key]));
+            let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            for (p, q) in x.iter().zip(&y) {
+                assert!((p - q).abs() <= 1e-12 * scale, "{key}: {p} vs {q}");
+            }
+        }
+    }
+    assert_eq!(a["cones"], b["cones"]);
+}
+
+/// Rays as sets of per-node values keyed by the contact node's position, so that two meshes of
+/// the same body with other node numbers can be compared.
+/// A contact node's value in a ray: position (in 1e-6 units), status, `(u_n, u_t, r_n, r_t)`.
+type NodeValue = (i64, i64, String, Vec<f64>);
+
+fn rays_by_position(report: &Value) -> Vec<Vec<NodeValue>> {
+    let contact = report["model"]["contact"].as_array().unwrap();
+    let mut rays: Vec<Vec<NodeValue>> = report["rays"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|ray| {
+            let u = floats(&ray["u"]);
+            let r = floats(&ray["r"]);
+            let mut nodes: Vec<NodeValue> = contact
+                .iter()
+                .enumerate()
+                .map(|(i, c)| {
+                    let x = floats(&c["x"]);
+                    (
+                        (x[0] * 1e6).round() as i64,
+                        (x[1] * 1e6).round() as i64,
+                        ray["status"][i].as_str().unwrap().to_string(),
+                        vec![u[2 * i], u[2 * i + 1], r[2 * i], r[2 * i + 1]],
+                    )
+                })
+                .collect();
+            nodes.sort_by_key(|n| (n.0, n.1));
+            nodes
+        })
+        .collect();
+    rays.sort_by(|a, b| {
+        let sa: Vec<&String> = a.iter().map(|n| &n.2).collect();
+        let sb: Vec<&String> = b.iter().map(|n| &n.2).collect();
+        sa.cmp(&sb)
+    });
+    rays
+}
+
+#[test]
+fn a_gmsh_mesh_of_the_plug_gives_the_generators_answer() {
+    // tests/fixtures/msh/plug2d_quad.msh was written by Gmsh 4.15 (tools/gmsh/make_fixtures.py)
+    // for the same trapezoid with the same nodes as `nx = 6, ny = 4`, numbered differently.
+    for file in ["plug2d_quad.msh", "plug2d_quad_bin.msh"] {
+        let dir = tempfile::tempdir().unwrap();
+        let generated = write(&dir, "gen.toml", PLUG);
+        let from_gmsh = write(
+            &dir,
+            "gmsh.toml",
+            &PLUG.replace(
+                "[mesh.generate]\nkind = \"plug2d\"\nbottom_width = 1.0\ntop_width = 2.0\nheight = 1.0\nnx = 6\nny = 4\n",
+                &format!("[mesh]\ngmsh = \"{}\"\n", fixture(&format!("msh/{file}"))),
+            ),
+        );
+        assert!(fs::read_to_string(&from_gmsh).unwrap().contains("gmsh ="));
+        let a = wedged(&["enumerate", &generated, "--json", "-"]);
+        let b = wedged(&["enumerate", &from_gmsh, "--json", "-"]);
+        assert_success(&a);
+        assert_success(&b);
+        let a: Value = serde_json::from_slice(&a.stdout).unwrap();
+        let b: Value = serde_json::from_slice(&b.stdout).unwrap();
+        let (ra, rb) = (rays_by_position(&a), rays_by_position(&b));
+        assert!(!ra.is_empty());
+        assert_eq!(ra.len(), rb.len(), "{file}");
+        for (x, y) in ra.iter().zip(&rb) {
+            for (p, q) in x.iter().zip(y) {
+                assert_eq!((p.0, p.1, &p.2), (q.0, q.1, &q.2), "{file}");
+                let scale = p.3.iter().chain(&q.3).fold(0.0f64, |m, v| m.max(v.abs()));
+                for (s, t) in p.3.iter().zip(&q.3) {
+                    assert!(
+                        (s - t).abs() <= 1e-9 * scale.max(1e-300),
+                        "{file}: {s} vs {t}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+fn enumerate_toml(toml: &str, extra: &[&str]) -> (Output, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(&dir, "p.toml", toml);
+    let mut args = vec!["enumerate", p.as_str()];
+    args.extend_from_slice(extra);
+    let out = wedged(&args);
+    drop(dir);
+    (out, p)
+}
+
+#[test]
+fn a_missing_group_is_named_with_the_available_ones() {
+    let (out, p) = enumerate_toml(&PLUG.replace("group = \"top\"", "group = \"lid\""), &[]);
+    assert_bad_input(&out, &[&p, "clamp group 'lid' does not exist", "'top'"]);
+}
+
+#[test]
+fn a_missing_mesh_file_is_named() {
+    let (out, p) = enumerate_toml(
+        "mu = 1\n[mesh]\ngmsh = \"nowhere.msh\"\n[material]\nyoung = 1\npoisson = 0.3\n[[contact]]\ngroup = \"c\"\n",
+        &[],
+    );
+    let _ = p;
+    assert_bad_input(&out, &["nowhere.msh"]);
+}
+
+#[test]
+fn bad_materials_are_named() {
+    let (out, p) = enumerate_toml(&PLUG.replace("poisson = 0.3", "poisson = 0.5"), &[]);
+    assert_bad_input(&out, &[&p, "[material]", "Poisson"]);
+    let (out, _) = enumerate_toml(&PLUG.replace("young = 210e9", "young = -1"), &[]);
+    assert_bad_input(&out, &["Young"]);
+    let (out, _) = enumerate_toml(&PLUG.replace("plane = \"strain\"", "plane = \"flat\""), &[]);
+    assert_bad_input(&out, &["plane = \"flat\""]);
+    let (out, _) = enumerate_toml(
+        &PLUG.replace(
+            "[material]\nyoung = 210e9\npoisson = 0.3\nplane = \"strain\"\n",
+            "",
+        ),
+        &[],
+    );
+    assert_bad_input(&out, &["missing the [material] table"]);
+}
+
+#[test]
+fn bad_generator_parameters_are_named() {
+    let (out, _) = enumerate_toml(&PLUG.replace("nx = 6", "nx = 0"), &[]);
+    assert_bad_input(&out, &["[mesh.generate]", "nx"]);
+    let (out, _) = enumerate_toml(&PLUG.replace("plug2d", "cork"), &[]);
+    assert_bad_input(&out, &["cork"]);
+    let (out, _) = enumerate_toml(&PLUG.replace("ny = 4", "ny = 4\nelement = \"hex\""), &[]);
+    assert_bad_input(&out, &["element = \"hex\""]);
+}
+
+#[test]
+fn a_floating_body_is_refused_with_a_reason() {
+    let (out, _) = enumerate_toml(&PLUG.replace("[[clamp]]\ngroup = \"top\"\n", ""), &[]);
+    assert_bad_input(&out, &["rigidly", "[[clamp]]"]);
+}
+
+#[test]
+fn a_contact_node_cannot_be_a_roller() {
+    let (out, _) = enumerate_toml(&format!("{PLUG}[[symmetry]]\ngroup = \"bottom\"\n"), &[]);
+    assert_bad_input(&out, &["both a contact node", "'bottom'"]);
+}
+
+#[test]
+fn a_normal_of_the_wrong_length_is_named() {
+    let (out, _) = enumerate_toml(
+        &PLUG.replace(
+            "group = \"contact\"",
+            "group = \"contact\"\nnormal = [1, 0, 0]",
+        ),
+        &[],
+    );
+    assert_bad_input(&out, &["`normal` has 3 components"]);
+}
+
+#[test]
+fn vtk_needs_a_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = wedged(&[
+        "enumerate",
+        &fixture("two_nodes.toml"),
+        "--vtk",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_bad_input(&out, &["--vtk needs a meshed body"]);
+}
+
+#[test]
+fn vtk_into_a_file_is_refused_before_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(&dir, "plug.toml", PLUG);
+    let file = write(&dir, "taken", "x");
+    let out = wedged(&["enumerate", &p, "--svg", &file]);
+    assert_bad_input(&out, &[&file, "needs a directory"]);
+}
+
+#[test]
+fn condense_needs_a_mesh() {
+    let out = wedged(&[
+        "condense",
+        &fixture("two_nodes.toml"),
+        "--mtx",
+        "/tmp/never.mtx",
+    ]);
+    assert_bad_input(&out, &["no [mesh]"]);
+}
+
+#[test]
+fn a_3d_plug_condenses() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(
+        &dir,
+        "v.toml",
+        r#"
+[mesh.generate]
+kind = "frustum3d"
+bottom_width = 1.0
+top_width = 1.6
+height = 1.0
+n = 2
+nz = 2
+element = "tet"
+[material]
+young = 1.0
+poisson = 0.25
+[[contact]]
+group = "contact"
+[[clamp]]
+group = "top"
+"#,
+    );
+    let k = dir.path().join("K.mtx");
+    let out = wedged(&["condense", &p, "--mtx", k.to_str().unwrap()]);
+    assert_success(&out);
+    let mtx = fs::read_to_string(&k).unwrap();
+    assert!(mtx.starts_with("%%MatrixMarket matrix coordinate real symmetric"));
+    assert!(mtx.contains("t2 = "));
+    // 4 x 4 side nodes below the clamped top ring: 16 - ... contact nodes, 3 rows each.
+    let summary = text(&out.stdout);
+    assert!(summary.contains("3D mesh"), "{summary}");
+}
