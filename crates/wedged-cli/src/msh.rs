@@ -742,6 +742,70 @@ mod tests {
             .unwrap_or_else(|| panic!("no group '{name}' in {}", mesh.group_names()))
     }
 
+    /// The Gmsh-written plug and the generator's plug (same nodes, other numbering) condense to
+    /// the same `K`, up to the order of the contact nodes.
+    #[test]
+    fn gmsh_plug_condenses_like_the_generated_one() {
+        use wedged::fe::generate::Plug2d;
+        use wedged::fe::{BoundarySpec, ContactSpec, Material, Model, Plane};
+        let spec = BoundarySpec {
+            contact: vec![ContactSpec {
+                group: "contact".into(),
+                normal: None,
+            }],
+            clamp: vec!["top".into()],
+            symmetry: vec![],
+        };
+        let material = Material::new(210e9, 0.3, Plane::Strain).unwrap();
+        let generated = Plug2d {
+            bottom_width: 1.0,
+            top_width: 2.0,
+            height: 1.0,
+            nx: 6,
+            ny: 4,
+            simplices: false,
+        }
+        .mesh()
+        .unwrap();
+        let a = Model::build(generated, material, &spec).unwrap();
+        for file in ["plug2d_quad.msh", "plug2d_quad_bin.msh"] {
+            let b = Model::build(load(file), material, &spec).unwrap();
+            let (ba, bb) = (a.boundary(), b.boundary());
+            assert_eq!(ba.contact_nodes.len(), bb.contact_nodes.len());
+            // Contact node i of `a` is node perm[i] of `b`: the one at the same place.
+            let perm: Vec<usize> = ba
+                .contact_nodes
+                .iter()
+                .map(|&p| {
+                    let x = a.mesh().coords()[p];
+                    bb.contact_nodes
+                        .iter()
+                        .position(|&q| {
+                            let y = b.mesh().coords()[q];
+                            (x[0] - y[0]).abs() < 1e-9 && (x[1] - y[1]).abs() < 1e-9
+                        })
+                        .expect("the same contact nodes")
+                })
+                .collect();
+            let (ka, kb) = (a.k(), b.k());
+            let scale = ka.amax();
+            for (i, &pi) in perm.iter().enumerate() {
+                assert!((ba.frames[i].n[0] - bb.frames[pi].n[0]).abs() < 1e-9);
+                for (j, &pj) in perm.iter().enumerate() {
+                    for c in 0..2 {
+                        for d in 0..2 {
+                            let (x, y) = (ka[(2 * i + c, 2 * j + d)], kb[(2 * pi + c, 2 * pj + d)]);
+                            assert!(
+                                (x - y).abs() <= 1e-9 * scale,
+                                "{file}: K differs: {x} vs {y}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     /// The one-line message for `bytes` parsed as a file called `name`, which must fail.
     fn error(bytes: &[u8], name: &str) -> String {
         let e = parse(bytes, name).expect_err("the file should be rejected");

@@ -33,6 +33,7 @@
 
 use std::fmt;
 use std::fs;
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 use nalgebra::DMatrix;
@@ -373,7 +374,20 @@ fn load_model_from(path: &Path, raw: RawProblem) -> Result<Model, LoadError> {
             .map(|g| Ok((g.group.clone(), normal(g, "symmetry")?)))
             .collect::<Result<_, LoadError>>()?,
     };
-    Model::build(mesh, material, &spec).map_err(|e| err(e.to_string()))
+    // Large meshes take seconds to condense: say so to a person at a terminal.
+    let live = std::io::stderr().is_terminal() && mesh.node_count() * dim > 20_000;
+    if live {
+        eprint!(
+            "\r  condensing {} nodes ({} elements) onto the contact nodes ...",
+            mesh.node_count(),
+            mesh.elements().len()
+        );
+    }
+    let model = Model::build(mesh, material, &spec).map_err(|e| err(e.to_string()));
+    if live {
+        eprintln!(" done");
+    }
+    model
 }
 
 fn generate_mesh(generate: Generate) -> Result<Mesh, String> {

@@ -334,3 +334,59 @@ fn methods_agree_on_the_lattice_plug() {
         assert_same(&run(&p, Method::PrunedDd), &run(&p, Method::FullDd), &what);
     }
 }
+
+/// The status of a cone's centroid, decided numerically from its values, equals the
+/// combinatorial `cone_status`; and the centroid is a solution (`K u = r`, `sum r_n = 1`).
+#[test]
+fn cone_status_is_the_status_of_the_centroid() {
+    let mut rng = ChaCha8Rng::seed_from_u64(77);
+    let mut cones_seen = 0;
+    let mut multi_ray = 0;
+    for trial in 0..120 {
+        let m = 2 + trial % 5;
+        let mu = [1.0, 2.0, 3.0][trial % 3] * rng.gen_range(0.8..1.25);
+        let p = Problem::new(2, random_spd(&mut rng, m), mu).unwrap();
+        let e = run(&p, Method::PrunedDd);
+        for cone in &e.cones {
+            cones_seen += 1;
+            multi_ray += usize::from(cone.rays.len() > 1);
+            let (u, r) = e.cone_centroid(cone);
+            let ku = p.stiffness() * nalgebra::DVector::from_column_slice(&u);
+            let scale = r.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            for i in 0..2 * m {
+                assert!((ku[i] - r[i]).abs() <= 1e-9 * scale.max(1.0), "K u != r");
+            }
+            let sum_rn: f64 = (0..m).map(|i| r[2 * i]).sum();
+            assert!((sum_rn - 1.0).abs() < 1e-12);
+            let umax = u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let expected: Vec<NodeStatus> = (0..m)
+                .map(|i| {
+                    let (un, rn, rt) = (u[2 * i], r[2 * i], r[2 * i + 1]);
+                    if un > 1e-9 * umax {
+                        NodeStatus::Separated
+                    } else if rn <= 1e-12 {
+                        NodeStatus::Grazing
+                    } else if (rt.abs() - mu * rn).abs() <= 1e-9 * rn {
+                        if rt > 0.0 {
+                            NodeStatus::SlipPlus
+                        } else {
+                            NodeStatus::SlipMinus
+                        }
+                    } else {
+                        NodeStatus::Stick
+                    }
+                })
+                .collect();
+            assert_eq!(
+                e.cone_status(cone),
+                expected,
+                "trial {trial}, cone {:?}",
+                cone.rays
+            );
+        }
+    }
+    assert!(
+        cones_seen > 100 && multi_ray > 30,
+        "{cones_seen} cones, {multi_ray} with several rays"
+    );
+}
