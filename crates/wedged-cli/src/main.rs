@@ -13,6 +13,7 @@ mod summary;
 mod svg;
 mod vtk;
 
+use std::cell::Cell;
 use std::fmt;
 use std::io::{self, IsTerminal, Write};
 use std::panic::{self, AssertUnwindSafe};
@@ -188,6 +189,10 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     // A panic is a bug: report it on one line, as an internal failure, without a backtrace.
     panic::set_hook(Box::new(|info| {
+        if CONTAINED_PANIC.with(Cell::get) {
+            // A third-party parser's panic that the caller turns into an input error.
+            return;
+        }
         let what = info
             .payload()
             .downcast_ref::<&str>()
@@ -430,6 +435,19 @@ fn write_stdout(text: &str) -> Result<(), Failure> {
         Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
         Err(e) => Err(Failure::Internal(format!("cannot write to stdout: {e}"))),
     }
+}
+
+thread_local! {
+    static CONTAINED_PANIC: Cell<bool> = const { Cell::new(false) };
+}
+
+/// Runs `f`, catching a panic without the internal-failure report: for third-party code on
+/// hostile input (the MSH parser), whose panic the caller reports as bad input.
+pub(crate) fn contain_panic<T>(f: impl FnOnce() -> T) -> Option<T> {
+    CONTAINED_PANIC.with(|c| c.set(true));
+    let result = panic::catch_unwind(AssertUnwindSafe(f)).ok();
+    CONTAINED_PANIC.with(|c| c.set(false));
+    result
 }
 
 /// Collapses a possibly multi-line message into one line.

@@ -26,7 +26,6 @@
 
 use std::collections::{BTreeMap, HashMap};
 use std::fmt;
-use std::panic::{self, AssertUnwindSafe};
 use std::path::Path;
 
 use mshio::{MshFile, MshParserError};
@@ -84,10 +83,10 @@ fn parse_inner(bytes: &[u8]) -> Result<Mesh, String> {
     precheck_sections(bytes, &header)?;
     // `mshio` has no known panic left on the inputs that pass the checks above; should one
     // remain, it becomes an error rather than a crash.
-    let msh = match panic::catch_unwind(AssertUnwindSafe(|| mshio::parse_msh_bytes(bytes))) {
-        Ok(Ok(msh)) => msh,
-        Ok(Err(e)) => return Err(describe_parser_error(&e, bytes, header.binary)),
-        Err(_) => return Err("malformed MSH file: the MSH parser failed".to_string()),
+    let msh = match crate::contain_panic(|| mshio::parse_msh_bytes(bytes)) {
+        Some(Ok(msh)) => msh,
+        Some(Err(e)) => return Err(describe_parser_error(&e, bytes, header.binary)),
+        None => return Err("malformed MSH file: the MSH parser failed".to_string()),
     };
     let names = physical_names(bytes)?;
     build(&msh, &names, bytes, &header)

@@ -412,3 +412,26 @@ group = "top"
     let summary = text(&out.stdout);
     assert!(summary.contains("3D mesh"), "{summary}");
 }
+
+/// The example problem files in `examples/` stay valid.
+#[test]
+fn the_example_files_run() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    for file in ["plug2d.toml", "plug2d_gmsh.toml"] {
+        let out = wedged(&["enumerate", root.join(file).to_str().unwrap()]);
+        assert_success(&out);
+        assert!(
+            text(&out.stdout).contains("wedged configurations"),
+            "{file}"
+        );
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let k = dir.path().join("K.mtx");
+    let out = wedged(&[
+        "condense",
+        root.join("frustum3d.toml").to_str().unwrap(),
+        "--mtx",
+        k.to_str().unwrap(),
+    ]);
+    assert_success(&out);
+}
