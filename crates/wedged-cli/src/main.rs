@@ -23,9 +23,12 @@ use std::process::ExitCode;
 use clap::builder::PossibleValue;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::fs;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
 use wedged::fe::Model;
 use wedged::{
-    enumerate_with_progress, EnumerateError, Enumeration, Method, Problem, Progress, Settings,
+    enumerate_with_control, EnumerateError, Enumeration, Method, Outcome, Problem, Progress,
+    Settings,
 };
 
 use crate::output::JsonTarget;
@@ -34,7 +37,9 @@ const EXIT_CODES: &str = "\
 Exit codes:
   0  the run completed, whether or not wedged configurations exist
   1  internal failure (e.g. a computed ray failed verification; a bug)
-  2  bad input or usage (unreadable or invalid problem file, bad option, unwritable --json path)";
+  2  bad input or usage (unreadable or invalid problem file, bad option, unwritable --json path)
+  3  the run stopped early (--time-limit, --max-rays, Ctrl-C): the summary and the JSON say it is
+     incomplete (\"complete\": false); no wedged configuration is claimed or ruled out";
 
 const PROBLEM_FILE: &str = "\
 Problem file (TOML), a condensed stiffness:
@@ -99,6 +104,13 @@ struct EnumerateArgs {
     /// Relative zero tolerance of the enumeration [default: 1e-9].
     #[arg(long, value_name = "T", allow_negative_numbers = true)]
     zero_tol: Option<f64>,
+    /// Stop after this many seconds (the result is then marked incomplete; exit code 3).
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    time_limit: Option<f64>,
+    /// Stop when more than this many rays would be held at once (a memory bound: a ray of an
+    /// m-node problem takes about 16 m bytes); the result is then marked incomplete.
+    #[arg(long, value_name = "N")]
+    max_rays: Option<usize>,
     #[command(flatten)]
     json: JsonArg,
     /// For a meshed body: write one ParaView file per wedged cone, DIR/cone-N.vtu (old
@@ -166,6 +178,9 @@ enum Failure {
     Input(String),
     /// A failure of the program itself: exit code 1.
     Internal(String),
+    /// The run stopped at a limit or on Ctrl-C; its results were written, marked incomplete:
+    /// exit code 3.
+    Incomplete(String),
 }
 
 impl Failure {
@@ -173,6 +188,7 @@ impl Failure {
         match self {
             Failure::Input(_) => ExitCode::from(2),
             Failure::Internal(_) => ExitCode::from(1),
+            Failure::Incomplete(_) => ExitCode::from(3),
         }
     }
 }
@@ -180,13 +196,19 @@ impl Failure {
 impl fmt::Display for Failure {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Failure::Input(m) | Failure::Internal(m) => f.write_str(m),
+            Failure::Input(m) | Failure::Internal(m) | Failure::Incomplete(m) => f.write_str(m),
         }
     }
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Ctrl-C asks the run to stop cleanly; a second Ctrl-C ends the process at once.
+    let _ = ctrlc::set_handler(|| {
+        if INTERRUPTED.swap(true, Ordering::Relaxed) {
+            std::process::exit(130);
+        }
+    });
     // A panic is a bug: report it on one line, as an internal failure, without a backtrace.
     panic::set_hook(Box::new(|info| {
         if CONTAINED_PANIC.with(Cell::get) {
@@ -210,6 +232,10 @@ fn main() -> ExitCode {
     }));
     match panic::catch_unwind(AssertUnwindSafe(|| run(cli))) {
         Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Err(failure @ Failure::Incomplete(_))) => {
+            eprintln!("incomplete: {}", one_line(&failure.to_string()));
+            failure.exit_code()
+        }
         Ok(Err(failure)) => {
             eprintln!("error: {}", one_line(&failure.to_string()));
             failure.exit_code()
@@ -244,6 +270,15 @@ fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
     if let Some(t) = args.zero_tol {
         settings.zero_tol = t;
     }
+    if let Some(t) = args.time_limit {
+        if !(t.is_finite() && t >= 0.0) {
+            return Err(Failure::Input(format!(
+                "--time-limit must be a finite number of seconds >= 0, got {t}"
+            )));
+        }
+        settings.limits.time_limit = Some(Duration::from_secs_f64(t));
+    }
+    settings.limits.max_rays = args.max_rays;
     if loaded.model.is_none() {
         for (given, option) in [(args.vtk.is_some(), "--vtk"), (args.svg.is_some(), "--svg")] {
             if given {
@@ -355,8 +390,12 @@ fn report(
     let json_text = json
         .as_ref()
         .map(|_| output::to_json(problem, settings, &result, model));
+    let incomplete = match result.outcome {
+        Outcome::Incomplete(stop) => Some(stop),
+        _ => None,
+    };
     let written = match model {
-        Some(model) if vtk.is_some() || svg.is_some() => {
+        Some(model) if (vtk.is_some() || svg.is_some()) && incomplete.is_none() => {
             export::write_cones(model, problem, &result, vtk, svg).map_err(Failure::Input)?
         }
         _ => Vec::new(),
@@ -387,7 +426,15 @@ fn report(
             .commit(text)
             .map_err(|e| Failure::Input(e.to_string()))?;
     }
-    write_stdout(&stdout_text)
+    write_stdout(&stdout_text)?;
+    match incomplete {
+        Some(stop) => Err(Failure::Incomplete(format!(
+            "{source}: {stop} after {} of {} nodes; the result is incomplete",
+            result.info.rays_after_node.len(),
+            problem.nodes()
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// Runs the enumeration and sorts its errors into bad input and internal failures.
@@ -413,7 +460,7 @@ fn run_library(
             shown.set(true);
         }
     };
-    let result = enumerate_with_progress(problem, settings, &progress);
+    let result = enumerate_with_control(problem, settings, &progress, &INTERRUPTED);
     if shown.get() {
         eprintln!();
     }
@@ -436,6 +483,9 @@ fn write_stdout(text: &str) -> Result<(), Failure> {
         Err(e) => Err(Failure::Internal(format!("cannot write to stdout: {e}"))),
     }
 }
+
+/// Set by Ctrl-C; the enumeration polls it.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
 thread_local! {
     static CONTAINED_PANIC: Cell<bool> = const { Cell::new(false) };

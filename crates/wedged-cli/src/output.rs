@@ -29,6 +29,10 @@ pub struct Report<'a> {
     pub nodes: usize,
     pub method: &'static str,
     pub outcome: &'static str,
+    /// False when the run stopped at a limit or on Ctrl-C.
+    pub complete: bool,
+    /// Why an incomplete run stopped; `null` for a complete one.
+    pub stopped: Option<String>,
     pub rays: Vec<RayJson<'a>>,
     pub cones: Vec<ConeJson<'a>>,
     pub info: InfoJson<'a>,
@@ -174,6 +178,12 @@ impl<'a> Report<'a> {
             outcome: match result.outcome {
                 Outcome::Wedged => "wedged",
                 Outcome::NotWedged => "not-wedged",
+                Outcome::Incomplete(_) => "incomplete",
+            },
+            complete: !matches!(result.outcome, Outcome::Incomplete(_)),
+            stopped: match result.outcome {
+                Outcome::Incomplete(stop) => Some(stop.to_string()),
+                _ => None,
             },
             rays: result
                 .rays

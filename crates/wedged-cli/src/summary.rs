@@ -79,6 +79,24 @@ pub fn render(
         settings.method.name()
     );
     match result.outcome {
+        Outcome::Incomplete(stop) => {
+            let _ = writeln!(
+                out,
+                "INCOMPLETE: {stop} after {} of {m} nodes ({} rays held at the peak); nothing is \
+                 claimed about the wedged configurations",
+                result.info.rays_after_node.len(),
+                result.info.peak_rays
+            );
+            if !result.rays.is_empty() {
+                let _ = writeln!(
+                    out,
+                    "the {} found before the stop (checked, but not all of them):",
+                    plural(result.rays.len(), "ray", "rays")
+                );
+                out.push('\n');
+                rays_table(&mut out, problem, result);
+            }
+        }
         Outcome::NotWedged => {
             let _ = writeln!(
                 out,
@@ -429,7 +447,13 @@ pub fn files(
             .iter()
             .filter(|p| p.extension().is_some_and(|e| e == ext))
             .count();
-        if result.cones.is_empty() {
+        if matches!(result.outcome, Outcome::Incomplete(_)) {
+            let _ = writeln!(
+                out,
+                "the run is incomplete, so no .{ext} file was written to {}",
+                dir.display()
+            );
+        } else if result.cones.is_empty() {
             let _ = writeln!(
                 out,
                 "no wedged cone, so no .{ext} file was written to {}",

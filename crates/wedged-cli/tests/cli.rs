@@ -107,12 +107,13 @@ fn check_report(report: &Value, k: &DMatrix<f64>) {
         .map(String::as_str)
         .collect();
     for key in [
-        "dim", "mu", "nodes", "method", "outcome", "rays", "cones", "info", "version",
+        "dim", "mu", "nodes", "method", "outcome", "complete", "stopped", "rays", "cones", "info",
+        "version",
     ] {
         assert!(keys.contains(&key), "missing {key} in {keys:?}");
     }
     // `model` is there for a meshed body only.
-    let expected = 9 + usize::from(keys.contains(&"model"));
+    let expected = 11 + usize::from(keys.contains(&"model"));
     assert_eq!(keys.len(), expected, "{keys:?}");
     let info = report["info"].as_object().unwrap();
     for key in [
@@ -581,4 +582,74 @@ fn unwritable_json_path() {
     let out_path = path_in(&dir, "no/such/dir/out.json");
     let out = wedged(&["enumerate", &fixture("two_nodes.toml"), "--json", &out_path]);
     assert_bad_input(&out, &[&out_path, "cannot write"]);
+}
+
+// ---- limits ------------------------------------------------------------------------------------
+
+#[test]
+fn a_run_stopped_by_the_time_limit_is_marked_incomplete() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = path_in(&dir, "out.json");
+    let out = wedged(&[
+        "enumerate",
+        &fixture("coupled_array.toml"),
+        "--time-limit",
+        "0",
+        "--json",
+        &json,
+    ]);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.starts_with("incomplete: ") && err.contains("time limit"),
+        "{err}"
+    );
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(stdout(&out).contains("INCOMPLETE"), "{}", stdout(&out));
+    // The JSON is whole, valid and says it is incomplete.
+    let report: Value = serde_json::from_str(&fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["complete"], false);
+    assert_eq!(report["outcome"], "incomplete");
+    assert!(report["stopped"].as_str().unwrap().contains("time limit"));
+    assert!(report["rays"].as_array().unwrap().is_empty());
+}
+
+#[test]
+fn max_rays_stops_the_run() {
+    let out = wedged(&[
+        "enumerate",
+        &fixture("coupled_array.toml"),
+        "--max-rays",
+        "3",
+        "--json",
+        "-",
+    ]);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    let report = json_stdout_any(&out);
+    assert_eq!(report["complete"], false);
+    assert!(report["stopped"].as_str().unwrap().contains("3 rays"));
+    // A complete run says so.
+    let report = json_stdout(&wedged(&[
+        "enumerate",
+        &fixture("coupled_array.toml"),
+        "--json",
+        "-",
+    ]));
+    assert_eq!(report["complete"], true);
+    assert_eq!(report["stopped"], Value::Null);
+}
+
+#[test]
+fn bad_time_limit() {
+    let out = wedged(&[
+        "enumerate",
+        &fixture("coupled_array.toml"),
+        "--time-limit",
+        "-1",
+    ]);
+    assert_bad_input(&out, &["--time-limit"]);
+}
+
+fn json_stdout_any(out: &Output) -> Value {
+    serde_json::from_slice(&out.stdout).expect("valid JSON on stdout")
 }

@@ -40,8 +40,9 @@ pub mod problem;
 pub mod verify;
 
 pub use enumerate::{
-    enumerate, enumerate_with_progress, Cone, ContactPattern, EnumerateError, Enumeration, Info,
-    Method, NodeStatus, Outcome, Progress, Ray, Settings,
+    enumerate, enumerate_with_control, enumerate_with_progress, Cone, ContactPattern,
+    EnumerateError, Enumeration, Info, Limits, Method, NodeStatus, Outcome, Progress, Ray,
+    Settings, Stop,
 };
 pub use problem::{Problem, ProblemError};
 

@@ -25,7 +25,9 @@
 
 use rayon::prelude::*;
 
-use super::{Info, NodeStatus, Progress, RawRay, Settings};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use super::{Control, Info, NodeStatus, Progress, RawRay, Settings};
 use crate::linalg::rank;
 use crate::problem::Problem;
 
@@ -290,6 +292,7 @@ pub(crate) fn run(
     info: &mut Info,
     variant: Variant,
     progress: &dyn Fn(Progress),
+    control: &Control,
 ) -> Vec<RawRay> {
     let m = problem.nodes();
     let n = 2 * m;
@@ -352,17 +355,28 @@ pub(crate) fn run(
             tol,
             variant,
         };
+        // Rays created in this step so far, for the max-rays limit.
+        let created = AtomicUsize::new(0);
         let chunks: Vec<(Rays, PairCounts)> = plus
             .par_chunks(16)
             .map(|chunk| {
                 let mut out = Rays::new(n, words, node_words);
                 let mut counts = PairCounts::default();
                 for &a in chunk {
+                    if control.must_stop(rays.len() + created.load(Ordering::Relaxed)) {
+                        break;
+                    }
+                    let before = out.len();
                     step.combine(a, &mut out, &mut counts);
+                    created.fetch_add(out.len() - before, Ordering::Relaxed);
                 }
                 (out, counts)
             })
             .collect();
+        if control.must_stop(rays.len() + created.load(Ordering::Relaxed)) {
+            // No ray is final before the last node: report none.
+            return Vec::new();
+        }
 
         // Keep: rays with u_n_i > 0 (in the pruned variant only if r_i = 0), rays with u_n_i = 0
         // (now tight on the new constraint), and the new rays.

@@ -21,11 +21,16 @@ use std::collections::HashSet;
 
 use nalgebra::DMatrix;
 
-use super::{Info, NodeStatus, RawRay, Settings};
+use super::{Control, Info, NodeStatus, RawRay, Settings};
 use crate::linalg::{null_vector, rank};
 use crate::problem::Problem;
 
-pub(crate) fn run(problem: &Problem, settings: &Settings, info: &mut Info) -> Vec<RawRay> {
+pub(crate) fn run(
+    problem: &Problem,
+    settings: &Settings,
+    info: &mut Info,
+    control: &Control,
+) -> Vec<RawRay> {
     assert_eq!(problem.dim(), 2, "the faces method is 2D only");
     let m = problem.nodes();
     assert!(
@@ -36,6 +41,10 @@ pub(crate) fn run(problem: &Problem, settings: &Settings, info: &mut Info) -> Ve
     let mut seen: HashSet<Vec<NodeStatus>> = HashSet::new();
     let mut rays = Vec::new();
     for mask in 1u32..(1u32 << m) {
+        // Rays found so far are final: each comes from a finished contact set.
+        if control.must_stop(rays.len()) {
+            break;
+        }
         let face = Face::new(problem, mask);
         face.extreme_rays(tol, info, |ray| {
             if seen.insert(ray.status.clone()) {
@@ -262,14 +271,16 @@ mod tests {
     fn settings() -> Settings {
         Settings {
             method: Method::Faces,
-            zero_tol: 1e-9,
+            ..Settings::default()
         }
     }
 
     fn solve(k: DMatrix<f64>, mu: f64) -> (Problem, Vec<RawRay>, Info) {
         let p = Problem::new(2, k, mu).unwrap();
         let mut info = Info::default();
-        let rays = run(&p, &settings(), &mut info);
+        let cancel = std::sync::atomic::AtomicBool::new(false);
+        let control = crate::enumerate::Control::new(Default::default(), &cancel);
+        let rays = run(&p, &settings(), &mut info, &control);
         (p, rays, info)
     }
 

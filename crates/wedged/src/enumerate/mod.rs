@@ -14,7 +14,9 @@ mod dd;
 mod faces;
 
 use std::fmt;
-use std::time::Instant;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::OnceLock;
+use std::time::{Duration, Instant};
 
 use crate::cliques::maximal_cliques;
 use crate::problem::Problem;
@@ -64,6 +66,8 @@ pub struct Settings {
     /// `|x| <= zero_tol * sum_k |a_k b_k|`, so decisions do not depend on the scale of `K`; the
     /// same number is the relative threshold of the rank decisions. Default `1e-9`.
     pub zero_tol: f64,
+    /// Bounds on the run; none by default.
+    pub limits: Limits,
 }
 
 impl Default for Settings {
@@ -71,7 +75,93 @@ impl Default for Settings {
         Settings {
             method: Method::PrunedDd,
             zero_tol: 1e-9,
+            limits: Limits::default(),
         }
+    }
+}
+
+/// Bounds on a run. A run that reaches one stops cleanly: its outcome is
+/// [`Outcome::Incomplete`], with the reason.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Limits {
+    /// Most rays held at once (double description), a proxy for memory: each held ray of an
+    /// `m`-node problem takes about `16 m + 3 m / 8` bytes.
+    pub max_rays: Option<usize>,
+    /// Most wall-clock time.
+    pub time_limit: Option<Duration>,
+}
+
+/// Why a run stopped before it was complete.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stop {
+    /// More rays would have been held than [`Limits::max_rays`].
+    MaxRays(usize),
+    /// [`Limits::time_limit`] ran out.
+    TimeLimit(Duration),
+    /// The caller's cancellation flag was set (Ctrl-C).
+    Interrupted,
+}
+
+impl fmt::Display for Stop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Stop::MaxRays(n) => write!(f, "the limit of {n} rays held was reached"),
+            Stop::TimeLimit(d) => write!(f, "the time limit of {} s ran out", d.as_secs_f64()),
+            Stop::Interrupted => write!(f, "the run was interrupted"),
+        }
+    }
+}
+
+/// Decides when a run must stop: limits and the cancellation flag, checked by the methods
+/// between units of work (from any thread). The first reason found is kept.
+pub(crate) struct Control<'a> {
+    start: Instant,
+    limits: Limits,
+    cancel: &'a AtomicBool,
+    stop: OnceLock<Stop>,
+}
+
+impl<'a> Control<'a> {
+    /// A control starting now.
+    pub(crate) fn new(limits: Limits, cancel: &'a AtomicBool) -> Control<'a> {
+        Control {
+            start: Instant::now(),
+            limits,
+            cancel,
+            stop: OnceLock::new(),
+        }
+    }
+
+    /// Whether the run must stop, with `held` rays in memory now.
+    pub(crate) fn must_stop(&self, held: usize) -> bool {
+        if self.stop.get().is_some() {
+            return true;
+        }
+        let reason = if self.cancel.load(Ordering::Relaxed) {
+            Some(Stop::Interrupted)
+        } else if self
+            .limits
+            .time_limit
+            .is_some_and(|t| self.start.elapsed() >= t)
+        {
+            self.limits.time_limit.map(Stop::TimeLimit)
+        } else {
+            self.limits
+                .max_rays
+                .filter(|&n| held > n)
+                .map(Stop::MaxRays)
+        };
+        match reason {
+            Some(r) => {
+                let _ = self.stop.set(r);
+                true
+            }
+            None => false,
+        }
+    }
+
+    fn stopped(&self) -> Option<Stop> {
+        self.stop.get().copied()
     }
 }
 
@@ -166,6 +256,10 @@ pub enum Outcome {
     Wedged,
     /// Complete; only the trivial solution `(0, 0)` exists.
     NotWedged,
+    /// Stopped before the end: nothing is claimed about the rays not reported. The double
+    /// descriptions have final rays only once every node is processed, so they report none;
+    /// `faces` reports the (checked) rays of the contact sets it finished. Cones are not formed.
+    Incomplete(Stop),
 }
 
 /// Diagnostics of a run.
@@ -304,6 +398,17 @@ pub fn enumerate_with_progress(
     settings: &Settings,
     progress: &dyn Fn(Progress),
 ) -> Result<Enumeration, EnumerateError> {
+    enumerate_with_control(problem, settings, progress, &AtomicBool::new(false))
+}
+
+/// [`enumerate_with_progress`], stopping cleanly ([`Outcome::Incomplete`]) as soon as `cancel`
+/// is set (by a Ctrl-C handler, say) or a limit of `settings.limits` is reached.
+pub fn enumerate_with_control(
+    problem: &Problem,
+    settings: &Settings,
+    progress: &dyn Fn(Progress),
+    cancel: &AtomicBool,
+) -> Result<Enumeration, EnumerateError> {
     if problem.dim() != 2 {
         return Err(EnumerateError::UnsupportedDim(problem.dim()));
     }
@@ -321,11 +426,30 @@ pub fn enumerate_with_progress(
         )));
     }
     let start = Instant::now();
+    let control = Control::new(settings.limits, cancel);
     let mut info = Info::default();
-    let raw = match settings.method {
-        Method::PrunedDd => dd::run(problem, settings, &mut info, dd::Variant::Pruned, progress),
-        Method::FullDd => dd::run(problem, settings, &mut info, dd::Variant::Full, progress),
-        Method::Faces => faces::run(problem, settings, &mut info),
+    let raw = if control.must_stop(0) {
+        Vec::new()
+    } else {
+        match settings.method {
+            Method::PrunedDd => dd::run(
+                problem,
+                settings,
+                &mut info,
+                dd::Variant::Pruned,
+                progress,
+                &control,
+            ),
+            Method::FullDd => dd::run(
+                problem,
+                settings,
+                &mut info,
+                dd::Variant::Full,
+                progress,
+                &control,
+            ),
+            Method::Faces => faces::run(problem, settings, &mut info, &control),
+        }
     };
     let mut rays = Vec::with_capacity(raw.len());
     for raw_ray in raw {
@@ -338,12 +462,11 @@ pub fn enumerate_with_progress(
     }
     rays.sort_by(|a, b| a.status.cmp(&b.status));
     rays.dedup_by(|a, b| a.status == b.status);
-    let cones = cones_of(&rays);
     info.seconds = start.elapsed().as_secs_f64();
-    let outcome = if rays.is_empty() {
-        Outcome::NotWedged
-    } else {
-        Outcome::Wedged
+    let (outcome, cones) = match control.stopped() {
+        Some(stop) => (Outcome::Incomplete(stop), Vec::new()),
+        None if rays.is_empty() => (Outcome::NotWedged, Vec::new()),
+        None => (Outcome::Wedged, cones_of(&rays)),
     };
     Ok(Enumeration {
         outcome,
