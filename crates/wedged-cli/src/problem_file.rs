@@ -477,7 +477,10 @@ fn entries(n: usize) -> String {
 
 /// A TOML error as one line with its position: `TOML error at line 3, column 5: ...`.
 fn toml_message(text: &str, e: &toml::de::Error) -> String {
-    let message = one_line(e.message());
+    let mut message = one_line(e.message());
+    if let Some(suggestion) = suggestion(&message) {
+        message.push_str(&format!(" (did you mean `{suggestion}`?)"));
+    }
     match e.span() {
         Some(span) => {
             let start = span.start.min(text.len());
@@ -490,9 +493,57 @@ fn toml_message(text: &str, e: &toml::de::Error) -> String {
     }
 }
 
+/// For serde's "unknown field `x`, expected one of `a`, `b`" (or "expected `a` or `b`"), the
+/// expected name closest to `x`, if it is within a third of its length in edits.
+fn suggestion(message: &str) -> Option<String> {
+    let rest = message.strip_prefix("unknown field `")?;
+    let (unknown, expected) = rest.split_once('`')?;
+    let names: Vec<&str> = expected.split('`').skip(1).step_by(2).collect();
+    let (best, distance) = names
+        .iter()
+        .map(|n| (*n, edit_distance(unknown, n)))
+        .min_by_key(|&(_, d)| d)?;
+    (distance > 0 && distance * 3 <= unknown.len().max(3)).then(|| best.to_string())
+}
+
+/// Levenshtein distance.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut previous = row[0];
+        row[0] = i + 1;
+        for j in 0..b.len() {
+            let current = row[j + 1];
+            row[j + 1] = (previous + usize::from(ca != b[j]))
+                .min(row[j] + 1)
+                .min(current + 1);
+            previous = current;
+        }
+    }
+    row[b.len()]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn misspelt_keys_get_a_suggestion() {
+        assert_eq!(
+            suggestion("unknown field `poison`, expected one of `young`, `poisson`, `plane`"),
+            Some("poisson".to_string())
+        );
+        assert_eq!(
+            suggestion("unknown field `matrix_maket`, expected `matrix_market` or `rows`"),
+            Some("matrix_market".to_string())
+        );
+        assert_eq!(
+            suggestion("unknown field `tolerance`, expected `matrix_market` or `rows`"),
+            None
+        );
+        assert_eq!(suggestion("invalid key"), None);
+    }
 
     fn load_text(text: &str) -> Result<Problem, LoadError> {
         let dir = tempfile::tempdir().unwrap();
