@@ -355,19 +355,7 @@ impl JsonTarget {
                 path.display()
             )));
         }
-        let dir = match path.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => Path::new("."),
-        };
-        let mut builder = tempfile::Builder::new();
-        builder.prefix(".wedged-").suffix(".json.tmp");
-        // The permissions of an ordinary new file (0666 less the umask), not tempfile's 0600.
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::PermissionsExt;
-            builder.permissions(std::fs::Permissions::from_mode(0o666));
-        }
-        let temp = builder.tempfile_in(dir).map_err(fail)?;
+        let temp = temp_beside(path).map_err(fail)?;
         Ok(JsonTarget::File {
             path: path.to_path_buf(),
             temp,
@@ -393,11 +381,9 @@ impl JsonTarget {
     }
 }
 
-/// Writes `bytes` to `path` through a temporary sibling renamed into place, so that a reader
-/// never sees a half-written file. `what` names the file in errors ("VTU file").
-pub fn write_atomic(path: &Path, bytes: &[u8], what: &str) -> Result<(), WriteError> {
-    let fail =
-        |e: io::Error| WriteError(format!("{}: cannot write the {what}: {e}", path.display()));
+/// A temporary file in `path`'s directory (so that renaming it over `path` is atomic), with the
+/// permissions of an ordinary new file (0666 less the umask), not tempfile's 0600.
+fn temp_beside(path: &Path) -> io::Result<NamedTempFile> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -409,7 +395,15 @@ pub fn write_atomic(path: &Path, bytes: &[u8], what: &str) -> Result<(), WriteEr
         use std::os::unix::fs::PermissionsExt;
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
-    let mut temp = builder.tempfile_in(dir).map_err(fail)?;
+    builder.tempfile_in(dir)
+}
+
+/// Writes `bytes` to `path` through a temporary sibling renamed into place, so that a reader
+/// never sees a half-written file. `what` names the file in errors ("VTU file").
+pub fn write_atomic(path: &Path, bytes: &[u8], what: &str) -> Result<(), WriteError> {
+    let fail =
+        |e: io::Error| WriteError(format!("{}: cannot write the {what}: {e}", path.display()));
+    let mut temp = temp_beside(path).map_err(fail)?;
     temp.write_all(bytes).map_err(fail)?;
     temp.as_file().sync_all().map_err(fail)?;
     temp.persist(path).map_err(|e| fail(e.error))?;

@@ -1199,23 +1199,25 @@ fn draw_legend(svg: &mut Svg, scene: &Scene) {
         );
         svg.text("legend-label", tx, y, "", "rigid obstacle");
     }
-    if !view.boundary.clamped.is_empty() {
+    // Supports: filled for clamps, hollow for rollers.
+    for (present, filled, label) in [
+        (!view.boundary.clamped.is_empty(), true, "clamped"),
+        (
+            !view.boundary.rollers.is_empty(),
+            false,
+            "roller (symmetry)",
+        ),
+    ] {
+        if !present {
+            continue;
+        }
         y += 19.0;
         if scene.projection.three_d {
-            support_square(&mut svg.out, [x0 + 10.0, y - 4.0], true);
+            support_square(&mut svg.out, [x0 + 10.0, y - 4.0], filled);
         } else {
-            support_triangle(&mut svg.out, [x0 + 10.0, y - 8.0], [0.0, 1.0], true);
+            support_triangle(&mut svg.out, [x0 + 10.0, y - 8.0], [0.0, 1.0], filled);
         }
-        svg.text("legend-label", tx, y, "", "clamped");
-    }
-    if !view.boundary.rollers.is_empty() {
-        y += 19.0;
-        if scene.projection.three_d {
-            support_square(&mut svg.out, [x0 + 10.0, y - 4.0], false);
-        } else {
-            support_triangle(&mut svg.out, [x0 + 10.0, y - 8.0], [0.0, 1.0], false);
-        }
-        svg.text("legend-label", tx, y, "", "roller (symmetry)");
+        svg.text("legend-label", tx, y, "", label);
     }
     if !scene.projection.three_d {
         y += 19.0;
