@@ -111,6 +111,10 @@ struct EnumerateArgs {
     /// m-node problem takes about 16 m bytes); the result is then marked incomplete.
     #[arg(long, value_name = "N")]
     max_rays: Option<usize>,
+    /// Stop when the rays held would take more than this much memory: bytes, or with a unit
+    /// (500M, 2G, 1.5GB; powers of 1000); the result is then marked incomplete.
+    #[arg(long, value_name = "SIZE", value_parser = parse_size)]
+    max_memory: Option<u64>,
     #[command(flatten)]
     json: JsonArg,
     /// For a meshed body: write one ParaView file per wedged cone, DIR/cone-N.vtu (old
@@ -279,6 +283,7 @@ fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
         settings.limits.time_limit = Some(Duration::from_secs_f64(t));
     }
     settings.limits.max_rays = args.max_rays;
+    settings.limits.max_memory = args.max_memory;
     if loaded.model.is_none() {
         for (given, option) in [(args.vtk.is_some(), "--vtk"), (args.svg.is_some(), "--svg")] {
             if given {
@@ -500,6 +505,26 @@ pub(crate) fn contain_panic<T>(f: impl FnOnce() -> T) -> Option<T> {
     result
 }
 
+/// A memory size: a number of bytes, or a number with `k`, `M`, `G` or `T` (powers of 1000),
+/// optionally followed by `B`: `500M`, `2G`, `1.5GB`.
+fn parse_size(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let t = t.strip_suffix(['B', 'b']).unwrap_or(t);
+    let (number, factor) = match t.chars().last() {
+        Some('k' | 'K') => (&t[..t.len() - 1], 1e3),
+        Some('m' | 'M') => (&t[..t.len() - 1], 1e6),
+        Some('g' | 'G') => (&t[..t.len() - 1], 1e9),
+        Some('t' | 'T') => (&t[..t.len() - 1], 1e12),
+        _ => (t, 1.0),
+    };
+    match number.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 && x * factor < 1.8e19 => Ok((x * factor) as u64),
+        _ => Err(format!(
+            "expected a positive size such as 500M, 2G or 1500000000, got {text:?}"
+        )),
+    }
+}
+
 /// Collapses a possibly multi-line message into one line.
 pub(crate) fn one_line(message: &str) -> String {
     message
@@ -514,6 +539,18 @@ pub(crate) fn one_line(message: &str) -> String {
 mod tests {
     use super::*;
     use clap::CommandFactory;
+
+    #[test]
+    fn sizes_parse() {
+        assert_eq!(parse_size("500M"), Ok(500_000_000));
+        assert_eq!(parse_size("1.5GB"), Ok(1_500_000_000));
+        assert_eq!(parse_size("2g"), Ok(2_000_000_000));
+        assert_eq!(parse_size("1234"), Ok(1234));
+        assert_eq!(parse_size("64kB"), Ok(64_000));
+        for bad in ["", "G", "-1G", "lots", "0", "nanM", "1e30T"] {
+            assert!(parse_size(bad).is_err(), "{bad}");
+        }
+    }
 
     #[test]
     fn cli_is_well_formed() {

@@ -272,7 +272,11 @@ fn info_line(info: &Info) -> String {
         ));
     }
     if info.peak_rays > 0 {
-        parts.push(format!("peak {}", plural(info.peak_rays, "ray", "rays")));
+        parts.push(format!(
+            "peak {} ({})",
+            plural(info.peak_rays, "ray", "rays"),
+            wedged::enumerate::bytes_text(info.peak_bytes)
+        ));
     }
     if info.pairs_tested > 0 {
         parts.push(format!(

@@ -103,3 +103,31 @@ fn cancellation_from_another_thread_stops_a_long_run() {
         start.elapsed()
     );
 }
+
+#[test]
+fn max_memory_bounds_the_ray_store() {
+    let p = random_spd_problem(10, 1.0, 2024);
+    let complete = enumerate(&p, &Settings::default()).unwrap();
+    // peak_bytes is peak_rays times the bytes of one ray: 20 values, 1 + 2 words of bits.
+    assert_eq!(
+        complete.info.peak_bytes,
+        complete.info.peak_rays as u64 * 8 * (20 + 1 + 2)
+    );
+    let limits = Limits {
+        max_memory: Some(complete.info.peak_bytes / 4),
+        ..Limits::default()
+    };
+    let e = enumerate(&p, &settings(Method::PrunedDd, limits)).unwrap();
+    assert_eq!(
+        e.outcome,
+        Outcome::Incomplete(Stop::MaxMemory(complete.info.peak_bytes / 4))
+    );
+    assert!(e.rays.is_empty());
+    assert!(e.info.peak_bytes <= complete.info.peak_bytes / 4 + 8 * 23 * 1000);
+    let limits = Limits {
+        max_memory: Some(complete.info.peak_bytes),
+        ..Limits::default()
+    };
+    let e = enumerate(&p, &settings(Method::PrunedDd, limits)).unwrap();
+    assert_eq!(e.rays, complete.rays);
+}

@@ -302,6 +302,8 @@ pub(crate) fn run(
     let words = (PER_NODE * m).div_ceil(64);
     let node_words = m.div_ceil(64);
     let mut rays = Rays::new(n, words, node_words);
+    let ray_bytes = 8 * (n + words + 2 * node_words) as u64;
+    control.set_ray_bytes(ray_bytes);
 
     // Step 1: the 2m extreme rays of the friction cones.
     for i in 0..m {
@@ -320,6 +322,7 @@ pub(crate) fn run(
         }
     }
     info.peak_rays = rays.len();
+    info.peak_bytes = info.peak_rays as u64 * ray_bytes;
 
     // Dense copy of the compliance rows `G[n_j, :]`, for cache-friendly dot products.
     let gap_rows: Vec<f64> = (0..m)
@@ -407,6 +410,7 @@ pub(crate) fn run(
         }
         // In memory at once: the old set and the new one.
         info.peak_rays = info.peak_rays.max(rays.len() + kept.len());
+        info.peak_bytes = info.peak_rays as u64 * ray_bytes;
         // Keep the filter while it rejects at least a tenth of what reaches it; turn it on when
         // more than half of the rank tests reject.
         let reached = superset_rejects + rank_tests;

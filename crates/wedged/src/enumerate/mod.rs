@@ -89,6 +89,9 @@ pub struct Limits {
     pub max_rays: Option<usize>,
     /// Most wall-clock time.
     pub time_limit: Option<Duration>,
+    /// Most bytes for the rays held at once (double description's ray store, the part of
+    /// memory that grows; see [`Info::peak_bytes`]).
+    pub max_memory: Option<u64>,
 }
 
 /// Why a run stopped before it was complete.
@@ -98,6 +101,8 @@ pub enum Stop {
     MaxRays(usize),
     /// [`Limits::time_limit`] ran out.
     TimeLimit(Duration),
+    /// The rays held would have taken more than [`Limits::max_memory`] bytes.
+    MaxMemory(u64),
     /// The caller's cancellation flag was set (Ctrl-C).
     Interrupted,
 }
@@ -107,6 +112,11 @@ impl fmt::Display for Stop {
         match self {
             Stop::MaxRays(n) => write!(f, "the limit of {n} rays held was reached"),
             Stop::TimeLimit(d) => write!(f, "the time limit of {} s ran out", d.as_secs_f64()),
+            Stop::MaxMemory(b) => write!(
+                f,
+                "the memory limit of {} for the rays held was reached",
+                bytes_text(*b)
+            ),
             Stop::Interrupted => write!(f, "the run was interrupted"),
         }
     }
@@ -119,6 +129,22 @@ pub(crate) struct Control<'a> {
     limits: Limits,
     cancel: &'a AtomicBool,
     stop: OnceLock<Stop>,
+    /// Bytes per held ray, set by the method that holds rays.
+    ray_bytes: OnceLock<u64>,
+}
+
+/// `1.5 GB`, `320 MB`, `12 kB`, `800 B` (powers of 1000).
+pub fn bytes_text(b: u64) -> String {
+    let b = b as f64;
+    if b >= 1e9 {
+        format!("{:.2} GB", b / 1e9)
+    } else if b >= 1e6 {
+        format!("{:.1} MB", b / 1e6)
+    } else if b >= 1e3 {
+        format!("{:.0} kB", b / 1e3)
+    } else {
+        format!("{b} B")
+    }
 }
 
 impl<'a> Control<'a> {
@@ -129,7 +155,13 @@ impl<'a> Control<'a> {
             limits,
             cancel,
             stop: OnceLock::new(),
+            ray_bytes: OnceLock::new(),
         }
+    }
+
+    /// Declares the memory of one held ray, for the memory limit.
+    pub(crate) fn set_ray_bytes(&self, bytes: u64) {
+        let _ = self.ray_bytes.set(bytes);
     }
 
     /// Whether the run must stop, with `held` rays in memory now.
@@ -145,11 +177,14 @@ impl<'a> Control<'a> {
             .is_some_and(|t| self.start.elapsed() >= t)
         {
             self.limits.time_limit.map(Stop::TimeLimit)
+        } else if let Some(n) = self.limits.max_rays.filter(|&n| held > n) {
+            Some(Stop::MaxRays(n))
         } else {
+            let bytes = held as u64 * self.ray_bytes.get().copied().unwrap_or(0);
             self.limits
-                .max_rays
-                .filter(|&n| held > n)
-                .map(Stop::MaxRays)
+                .max_memory
+                .filter(|&b| bytes > b)
+                .map(Stop::MaxMemory)
         };
         match reason {
             Some(r) => {
@@ -282,6 +317,9 @@ pub struct Info {
     /// Largest number of rays in memory at once: during a node's step, the rays before it and
     /// the rays after it.
     pub peak_rays: usize,
+    /// Bytes of the ray store at its peak (`peak_rays` times the bytes of one ray: its `2m`
+    /// values and its bit sets); zero for `faces`.
+    pub peak_bytes: u64,
     /// Candidate tight sets examined (faces).
     pub candidates: u64,
     /// Extreme rays of `C` found before the complementarity filter (full-dd).
