@@ -5,12 +5,12 @@
 //! columns; beyond, each node is one character, in groups of ten.
 
 use std::fmt::Write;
-use std::path::Path;
-
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use wedged::fe::{ElementKind, Model, Plane};
 use wedged::{ContactPattern, Enumeration, Info, NodeStatus, Outcome, Problem, Settings};
+
+use crate::svg::sig4;
 
 /// Contact nodes listed one per line in the model summary; beyond, the JSON has them.
 const CONTACT_LIST_LIMIT: usize = 24;
@@ -317,29 +317,10 @@ fn info_line(info: &Info) -> String {
     parts.join("; ")
 }
 
-/// Four significant digits, without trailing noise: `0.8944`, `-1.2e-5`, `2.1e11`.
-fn g4(x: f64) -> String {
-    if x == 0.0 {
-        return "0".to_string();
-    }
-    let a = x.abs();
-    if (1e-3..1e5).contains(&a) {
-        let digits = (3 - a.log10().floor() as i32).max(0) as usize;
-        let s = format!("{x:.digits$}");
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        }
-    } else {
-        format!("{x:.3e}")
-    }
-}
-
 fn vector(v: &[f64]) -> String {
     format!(
         "({})",
-        v.iter().map(|&x| g4(x)).collect::<Vec<_>>().join(", ")
+        v.iter().map(|&x| sig4(x)).collect::<Vec<_>>().join(", ")
     )
 }
 
@@ -372,8 +353,8 @@ pub fn model(source: &str, model: &Model) -> String {
         out,
         "model {source}: {dim}D mesh, {}, {kinds}; {plane}, E = {}, nu = {}",
         plural(mesh.node_count(), "node", "nodes"),
-        g4(material.young()),
-        g4(material.poisson())
+        sig4(material.young()),
+        sig4(material.poisson())
     );
     let clamped_contact = if b.clamped_contact > 0 {
         format!(
