@@ -7,7 +7,7 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use wedged::fe::Model;
+use wedged::fe::{Configuration, Model};
 use wedged::{Enumeration, Problem};
 
 use crate::output::write_atomic;
@@ -68,16 +68,15 @@ pub fn write_cones(
     let count = result.cones.len();
     let width = count.saturating_sub(1).to_string().len();
     for (c, cone) in result.cones.iter().enumerate() {
-        let (u, _) = result.cone_centroid(cone);
-        let state = model.recover(&u);
         let status = result.cone_status(cone);
-        let ray_states: Vec<(usize, wedged::fe::Configuration)> = cone
+        let ray_states: Vec<(usize, Configuration)> = cone
             .rays
             .iter()
             .map(|&k| (k, model.recover(&result.rays[k].u)))
             .collect();
-        let rays: Vec<(usize, &wedged::fe::Configuration)> =
-            ray_states.iter().map(|(k, s)| (*k, s)).collect();
+        let rays: Vec<(usize, &Configuration)> = ray_states.iter().map(|(k, s)| (*k, s)).collect();
+        // The centroid's state from its rays' (the fields are linear), not one more solve.
+        let state = Configuration::mean(&rays.iter().map(|(_, s)| *s).collect::<Vec<_>>());
         let pressed = status.iter().filter(|s| s.pressed()).count();
         let separated = status.iter().filter(|s| s.gap_open()).count();
         // Indices are 0-based, as in the summary's tables and the JSON.

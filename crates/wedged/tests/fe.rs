@@ -448,3 +448,37 @@ fn normals_point_into_the_body_and_frames_are_right_handed() {
         assert!(f.n[2] > 0.0);
     }
 }
+
+#[test]
+fn the_mean_of_states_is_the_state_of_the_mean() {
+    let model = Model::build(
+        plug2d(4, 3, true),
+        steel(Plane::Strain),
+        &spec(&["contact"], &["top"], &[]),
+    )
+    .unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let n = model.k().nrows();
+    let us: Vec<Vec<f64>> = (0..3)
+        .map(|_| (0..n).map(|_| rng.gen_range(-1e-3..1e-3)).collect())
+        .collect();
+    let mean_u: Vec<f64> = (0..n)
+        .map(|i| us.iter().map(|u| u[i]).sum::<f64>() / 3.0)
+        .collect();
+    let states: Vec<_> = us.iter().map(|u| model.recover(u)).collect();
+    let mean = wedged::fe::Configuration::mean(&states.iter().collect::<Vec<_>>());
+    let direct = model.recover(&mean_u);
+    let close = |a: &[f64], b: &[f64]| {
+        let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-12 * scale)
+    };
+    let flat3 = |v: &[[f64; 3]]| v.iter().flatten().copied().collect::<Vec<_>>();
+    let flat6 = |v: &[[f64; 6]]| v.iter().flatten().copied().collect::<Vec<_>>();
+    assert!(close(
+        &flat3(&mean.displacement),
+        &flat3(&direct.displacement)
+    ));
+    assert!(close(&flat3(&mean.force), &flat3(&direct.force)));
+    assert!(close(&flat6(&mean.stress), &flat6(&direct.stress)));
+    assert!(close(&mean.von_mises, &direct.von_mises));
+}

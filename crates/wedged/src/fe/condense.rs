@@ -43,6 +43,39 @@ pub struct Configuration {
     pub von_mises: Vec<f64>,
 }
 
+impl Configuration {
+    /// The mean of states of the same model: displacements, forces and stresses are linear in
+    /// the contact displacement, so this is the state of the mean contact displacement; von
+    /// Mises (not linear) is recomputed from the mean stress.
+    pub fn mean(states: &[&Configuration]) -> Configuration {
+        let w = 1.0 / states.len().max(1) as f64;
+        fn average<const N: usize>(fields: Vec<&[[f64; N]]>, w: f64) -> Vec<[f64; N]> {
+            let len = fields.first().map_or(0, |f| f.len());
+            (0..len)
+                .map(|i| {
+                    let mut v = [0.0; N];
+                    for f in &fields {
+                        for (k, x) in f[i].iter().enumerate() {
+                            v[k] += w * x;
+                        }
+                    }
+                    v
+                })
+                .collect()
+        }
+        let displacement = average(states.iter().map(|s| &s.displacement[..]).collect(), w);
+        let force = average(states.iter().map(|s| &s.force[..]).collect(), w);
+        let stress = average(states.iter().map(|s| &s.stress[..]).collect(), w);
+        let von_mises = stress.iter().map(von_mises).collect();
+        Configuration {
+            displacement,
+            force,
+            stress,
+            von_mises,
+        }
+    }
+}
+
 /// Sizes and timings of a condensation.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Condensed {
@@ -511,14 +544,10 @@ fn check_held(mesh: &Mesh, nodes: &[NodeDofs]) -> Result<(), FeError> {
     }
     let mut held = vec![false; n];
     for (a, slot) in nodes.iter().enumerate() {
-        let anchored = match slot {
-            NodeDofs::Other { identity, .. } => !identity,
-            NodeDofs::Contact(_) => true,
-            NodeDofs::Fixed => false,
-        };
-        // A clamped node is Fixed but used; an unused node is Fixed and alone.
-        let clamped = matches!(slot, NodeDofs::Fixed);
-        if anchored || clamped {
+        // Every node but a free one (axes basis) holds its part: contact, clamped (Fixed),
+        // roller. An unused node is Fixed too, but it is alone in its part.
+        let anchored = !matches!(slot, NodeDofs::Other { identity: true, .. });
+        if anchored {
             let r = find(&mut parent, a);
             held[r] = true;
         }
