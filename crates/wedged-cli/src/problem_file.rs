@@ -178,8 +178,7 @@ pub fn load(path: &Path, mu_on_command_line: bool) -> Result<Loaded, LoadError> 
             }
         }
         let model = load_model_from(path, raw)?;
-        let problem = Problem::new(model.mesh().dim(), model.k().clone(), mu)
-            .map_err(|e| err(model_problem_message(e)))?;
+        let problem = model_problem(&model, mu).map_err(err)?;
         return Ok(Loaded {
             problem,
             model: Some(model),
@@ -202,8 +201,7 @@ pub fn load_model(path: &Path) -> Result<Model, LoadError> {
     }
     let model = load_model_from(path, raw)?;
     // The condensed stiffness must be positive definite for the WP: say so now.
-    Problem::new(model.mesh().dim(), model.k().clone(), 1.0)
-        .map_err(|e| err(model_problem_message(e)))?;
+    model_problem(&model, 1.0).map_err(err)?;
     Ok(model)
 }
 
@@ -218,15 +216,16 @@ fn read_raw(path: &Path) -> Result<(RawProblem, Err), LoadError> {
     Ok((raw, err))
 }
 
-/// Why a condensed stiffness is not a valid WP, in the terms of the model.
-fn model_problem_message(e: ProblemError) -> String {
-    match e {
+/// The WP of a model's condensed stiffness, or why it is not one, in the terms of the model.
+fn model_problem(model: &Model, mu: f64) -> Result<Problem, String> {
+    Problem::new(model.mesh().dim(), model.k().clone(), mu).map_err(|e| match e {
         ProblemError::NotPositiveDefinite { node, .. } => format!(
             "the condensed stiffness is singular at contact node {node}: the body can move \
              rigidly; clamp part of it with a [[clamp]] group (floating bodies are not supported)"
         ),
+        e @ ProblemError::InvalidMu(_) => e.to_string(),
         e => format!("the condensed stiffness: {e}"),
-    }
+    })
 }
 
 fn load_stiffness(path: &Path, raw: RawProblem, mu: f64) -> Result<Problem, LoadError> {

@@ -435,3 +435,13 @@ fn the_example_files_run() {
     ]);
     assert_success(&out);
 }
+
+#[test]
+fn a_bad_mu_of_a_meshed_body_is_named_as_such() {
+    let (out, p) = enumerate_toml(&PLUG.replace("mu = 2.0", "mu = -1.0"), &[]);
+    assert_bad_input(
+        &out,
+        &[&p, "friction coefficient mu must be finite and > 0, got -1"],
+    );
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("condensed stiffness"));
+}
