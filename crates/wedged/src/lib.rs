@@ -37,6 +37,7 @@ pub mod examples;
 pub mod fe;
 pub(crate) mod linalg;
 pub mod problem;
+pub(crate) mod socp;
 pub mod verify;
 
 pub use enumerate::{
