@@ -1,22 +1,30 @@
-//! Per-cone output files of a meshed problem: `cone-N.vtu` (ParaView) and `cone-N.svg`
-//! (a picture), one per wedged cone, `N` being the cone's 0-based index in the summary and the
-//! JSON (zero-padded to a common width, so that files sort in order). Each shows the cone's centroid (the mean of its rays, a
-//! solution in its relative interior, normalised to `sum r_n = 1`) mapped back to the mesh; the
-//! VTU files also carry each ray's displacement.
+//! Per-piece output files of a meshed problem, one per convex piece of the solution set, `N`
+//! being the piece's 0-based index in the summary and the JSON (zero-padded to a common width, so
+//! that files sort in order):
+//!
+//! - ray methods: `cone-N.vtu` (ParaView) and `cone-N.svg` (a picture) per wedged cone, showing
+//!   the cone's centroid (the mean of its rays, a solution in its relative interior, normalised
+//!   to `sum r_n = 1`) mapped back to the mesh; the VTU files also carry each ray's displacement;
+//! - pattern methods: `pattern-N.vtu` and `pattern-N.svg` per maximal sign pattern, showing the
+//!   pattern's witness (`wedged::patterns::Pattern::u`, in the relative interior of its piece)
+//!   with the statuses at the witness.
 
 use std::fs;
 use std::path::{Path, PathBuf};
 
 use wedged::fe::{Configuration, Model};
+use wedged::patterns::Patterns;
 use wedged::{Enumeration, Problem};
+
+use crate::answer::Answer;
 
 use crate::output::write_atomic;
 use crate::svg::svg_string;
 use crate::vtk::{vtu_bytes, View};
 
-/// Creates `dir` (and its parents) and removes the `cone-N.vtu` / `cone-N.svg` files of an
-/// earlier run, so that the directory holds exactly this run's cones. Called before the run, so
-/// that an unusable directory fails early.
+/// Creates `dir` (and its parents) and removes the `cone-N.<extension>` and
+/// `pattern-N.<extension>` files of an earlier run, so that the directory holds exactly this
+/// run's pieces. Called before the run, so that an unusable directory fails early.
 pub fn prepare_dir(dir: &Path, option: &str, extension: &str) -> Result<(), String> {
     if dir.exists() && !dir.is_dir() {
         return Err(format!(
@@ -35,7 +43,7 @@ pub fn prepare_dir(dir: &Path, option: &str, extension: &str) -> Result<(), Stri
     for entry in entries.flatten() {
         let name = entry.file_name();
         let name = name.to_string_lossy();
-        if is_cone_file(&name, extension) {
+        if is_piece_file(&name, extension) {
             fs::remove_file(entry.path()).map_err(|e| {
                 format!(
                     "{}: cannot remove the old {}: {e}",
@@ -48,16 +56,94 @@ pub fn prepare_dir(dir: &Path, option: &str, extension: &str) -> Result<(), Stri
     Ok(())
 }
 
-/// `cone-<digits>.<extension>`.
-fn is_cone_file(name: &str, extension: &str) -> bool {
+/// `cone-<digits>.<extension>` or `pattern-<digits>.<extension>`.
+fn is_piece_file(name: &str, extension: &str) -> bool {
     name.strip_prefix("cone-")
+        .or_else(|| name.strip_prefix("pattern-"))
         .and_then(|rest| rest.strip_suffix(extension))
         .and_then(|rest| rest.strip_suffix('.'))
         .is_some_and(|digits| !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()))
 }
 
+/// Writes the files of every piece (cone or pattern); returns the paths written.
+pub fn write_pieces(
+    model: &Model,
+    problem: &Problem,
+    answer: &Answer,
+    vtk: Option<&Path>,
+    svg: Option<&Path>,
+) -> Result<Vec<PathBuf>, String> {
+    match answer {
+        Answer::Rays(result) => write_cones(model, problem, result, vtk, svg),
+        Answer::Patterns(result) => write_patterns(model, problem, result, vtk, svg),
+    }
+}
+
+/// Writes the files of every maximal pattern, from its witness; returns the paths written.
+fn write_patterns(
+    model: &Model,
+    problem: &Problem,
+    result: &Patterns,
+    vtk: Option<&Path>,
+    svg: Option<&Path>,
+) -> Result<Vec<PathBuf>, String> {
+    let mut written = Vec::new();
+    let count = result.patterns.len();
+    let width = count.saturating_sub(1).to_string().len();
+    for (c, pattern) in result.patterns.iter().enumerate() {
+        let state = model.recover(&pattern.u);
+        let status = &pattern.status;
+        let pressed = status.iter().filter(|s| s.pressed()).count();
+        let sliding = status
+            .iter()
+            .filter(|s| s.pressed() && **s != wedged::NodeStatus::Stick)
+            .count();
+        let separated = status.iter().filter(|s| s.gap_open()).count();
+        let title = format!(
+            "pattern #{c} of {count}, mu = {}: {pressed} of {} contact nodes pressed ({sliding} \
+             slip), {separated} separated; witness margin {}",
+            problem.mu(),
+            status.len(),
+            crate::svg::sig4(pattern.margin)
+        );
+        let view = View {
+            mesh: model.mesh(),
+            boundary: model.boundary(),
+            status,
+            state: &state,
+            rays: &[],
+            title,
+        };
+        let stem = format!("pattern-{c:0width$}");
+        write_view(&view, &stem, vtk, svg, &mut written)?;
+    }
+    Ok(written)
+}
+
+/// Writes `DIR/<stem>.vtu` and `DIR/<stem>.svg` of one view, for the directories given.
+fn write_view(
+    view: &View,
+    stem: &str,
+    vtk: Option<&Path>,
+    svg: Option<&Path>,
+    written: &mut Vec<PathBuf>,
+) -> Result<(), String> {
+    if let Some(dir) = vtk {
+        let path = dir.join(format!("{stem}.vtu"));
+        let bytes = vtu_bytes(view).map_err(|e| format!("{}: {e}", path.display()))?;
+        write_atomic(&path, &bytes, "VTU file").map_err(|e| e.to_string())?;
+        written.push(path);
+    }
+    if let Some(dir) = svg {
+        let path = dir.join(format!("{stem}.svg"));
+        write_atomic(&path, svg_string(view).as_bytes(), "SVG file").map_err(|e| e.to_string())?;
+        written.push(path);
+    }
+    Ok(())
+}
+
 /// Writes the files of every cone; returns the paths written.
-pub fn write_cones(
+fn write_cones(
     model: &Model,
     problem: &Problem,
     result: &Enumeration,
@@ -97,18 +183,7 @@ pub fn write_cones(
             title,
         };
         let stem = format!("cone-{c:0width$}");
-        if let Some(dir) = vtk {
-            let path = dir.join(format!("{stem}.vtu"));
-            let bytes = vtu_bytes(&view).map_err(|e| format!("{}: {e}", path.display()))?;
-            write_atomic(&path, &bytes, "VTU file").map_err(|e| e.to_string())?;
-            written.push(path);
-        }
-        if let Some(dir) = svg {
-            let path = dir.join(format!("{stem}.svg"));
-            write_atomic(&path, svg_string(&view).as_bytes(), "SVG file")
-                .map_err(|e| e.to_string())?;
-            written.push(path);
-        }
+        write_view(&view, &stem, vtk, svg, &mut written)?;
     }
     Ok(written)
 }
@@ -118,13 +193,18 @@ mod tests {
     use super::*;
 
     #[test]
-    fn only_cone_files_are_recognised() {
-        assert!(is_cone_file("cone-1.vtu", "vtu"));
-        assert!(is_cone_file("cone-012.svg", "svg"));
-        assert!(!is_cone_file("cone-.vtu", "vtu"));
-        assert!(!is_cone_file("cone-1.svg", "vtu"));
-        assert!(!is_cone_file("mycone-1.vtu", "vtu"));
-        assert!(!is_cone_file("cone-1a.vtu", "vtu"));
-        assert!(!is_cone_file("result.json", "vtu"));
+    fn only_piece_files_are_recognised() {
+        assert!(is_piece_file("cone-1.vtu", "vtu"));
+        assert!(is_piece_file("cone-012.svg", "svg"));
+        assert!(is_piece_file("pattern-0.vtu", "vtu"));
+        assert!(is_piece_file("pattern-07.svg", "svg"));
+        assert!(!is_piece_file("cone-.vtu", "vtu"));
+        assert!(!is_piece_file("pattern-.vtu", "vtu"));
+        assert!(!is_piece_file("cone-1.svg", "vtu"));
+        assert!(!is_piece_file("pattern-1.svg", "vtu"));
+        assert!(!is_piece_file("mycone-1.vtu", "vtu"));
+        assert!(!is_piece_file("patterns-1.vtu", "vtu"));
+        assert!(!is_piece_file("cone-1a.vtu", "vtu"));
+        assert!(!is_piece_file("result.json", "vtu"));
     }
 }

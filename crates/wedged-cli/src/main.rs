@@ -4,6 +4,7 @@
 //! line, `error: <what went wrong>`, on stderr. The work lives in the library; this binary reads
 //! problem files ([`problem_file`], [`mtx`]) and writes results ([`summary`], [`output`]).
 
+mod answer;
 mod export;
 mod msh;
 mod mtx;
@@ -26,11 +27,14 @@ use std::fs;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 use wedged::fe::Model;
+use wedged::patterns::{
+    enumerate_patterns_with_control, PatternMethod, PatternSettings, DEFAULT_PYRAMID_FACES,
+};
 use wedged::{
-    enumerate_with_control, EnumerateError, Enumeration, Method, Outcome, Problem, Progress,
-    Settings,
+    enumerate_with_control, EnumerateError, Limits, Method, Problem, Progress, Settings, Stop,
 };
 
+use crate::answer::{Answer, Choice};
 use crate::output::JsonTarget;
 
 const EXIT_CODES: &str = "\
@@ -38,14 +42,17 @@ Exit codes:
   0  the run completed, whether or not wedged configurations exist
   1  internal failure (e.g. a computed ray failed verification; a bug)
   2  bad input or usage (unreadable or invalid problem file, bad option, unwritable --json path)
-  3  the run stopped early (--time-limit, --max-rays, Ctrl-C): the summary and the JSON say it is
-     incomplete (\"complete\": false); no wedged configuration is claimed or ruled out";
+  3  the run is incomplete: it stopped early (--time-limit, --max-rays, --max-memory, Ctrl-C), or
+     the conic solver could not decide some contact sets (pattern methods; the summary warns
+     about each). The summary and the JSON say so (\"complete\": false); what was not finished
+     is neither claimed nor ruled out";
 
 const PROBLEM_FILE: &str = "\
 Problem file (TOML), a condensed stiffness:
-  dim = 2                      # space dimension (only 2 can be enumerated so far)
+  dim = 2                      # space dimension, 2 or 3 (3: sign patterns, --method bnb)
   mu = 0.8                     # friction coefficient, > 0
   [stiffness]                  # K on the contact nodes, local frames, normal first
+                               #   (2D: n, t per node; 3D: n, t1, t2)
   matrix_market = \"K.mtx\"      # relative to the TOML file's directory, or:
   # rows = [[2.0, 1.0], [1.0, 1.0]]
 
@@ -55,15 +62,15 @@ or a meshed body, condensed onto its contact nodes:
   gmsh = \"plug.msh\"            # Gmsh MSH 4.1 (ASCII or binary), physical groups by name; or:
   # [mesh.generate]            # a built-in body:
   # kind = \"plug2d\"            #   bottom_width, top_width, height, nx, ny, element = quad|tri
-  #                            # vgroove3d: bottom_width, top_width, height, length, nx, ny, nz,
-  #                            #   element = hex|tet;  frustum3d: bottom_width, top_width,
-  #                            #   height, n, nz, element = hex|tet
+  #                            # 3D: vgroove3d: bottom_width, top_width, height, length, nx,
+  #                            #   ny, nz, element = hex|tet;  frustum3d: bottom_width,
+  #                            #   top_width, height, n, nz, element = hex|tet
   [material]
   young = 210e9
   poisson = 0.3
   plane = \"strain\"             # 2D: strain | stress
   [[contact]]                  # contact candidates against a rigid obstacle along the surface
-  group = \"contact\"            # optional: normal = [nx, ny], the body's inward normal
+  group = \"contact\"            # optional: normal = [nx, ny(, nz)], the body's inward normal
   [[clamp]]                    # zero displacement
   group = \"top\"
   # [[symmetry]]               # roller: zero displacement along the group's normal
@@ -98,9 +105,16 @@ struct EnumerateArgs {
     /// Friction coefficient, overriding the file's `mu`.
     #[arg(long, value_name = "MU", allow_negative_numbers = true)]
     mu: Option<f64>,
-    /// Algorithm finding the complementary extreme rays.
-    #[arg(long, value_name = "METHOD", default_value = "pruned-dd")]
-    method: MethodArg,
+    /// Algorithm [default: pruned-dd for a 2D problem, bnb for a 3D one]. The ray methods
+    /// (pruned-dd, full-dd, faces) list the complementary extreme rays and the cones of a 2D
+    /// problem; the pattern methods (bnb, pyramid, pattern-faces) list the maximal sign patterns
+    /// (the convex pieces, each with a witness) of a 2D or 3D problem.
+    #[arg(long, value_name = "METHOD")]
+    method: Option<MethodArg>,
+    /// Faces of the pyramid that replaces the round friction cone in --method pyramid, 3 to 64
+    /// [default: 8]. Only --method pyramid uses it (and only in 3D).
+    #[arg(long, value_name = "K", allow_negative_numbers = true)]
+    pyramid_faces: Option<i64>,
     /// Relative zero tolerance of the enumeration [default: 1e-9].
     #[arg(long, value_name = "T", allow_negative_numbers = true)]
     zero_tol: Option<f64>,
@@ -108,21 +122,25 @@ struct EnumerateArgs {
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     time_limit: Option<f64>,
     /// Stop when more than this many rays would be held at once (a memory bound: a ray of an
-    /// m-node problem takes about 16 m bytes); the result is then marked incomplete.
+    /// m-node problem takes about 16 m bytes; ray methods and pyramid); the result is then
+    /// marked incomplete.
     #[arg(long, value_name = "N")]
     max_rays: Option<usize>,
     /// Stop when the rays held would take more than this much memory: bytes, or with a unit
-    /// (500M, 2G, 1.5GB; powers of 1000); the result is then marked incomplete.
+    /// (500M, 2G, 1.5GB; powers of 1000; ray methods and pyramid); the result is then marked
+    /// incomplete.
     #[arg(long, value_name = "SIZE", value_parser = parse_size)]
     max_memory: Option<u64>,
     #[command(flatten)]
     json: JsonArg,
-    /// For a meshed body: write one ParaView file per wedged cone, DIR/cone-N.vtu (old
-    /// cone-N.vtu files in DIR are removed).
+    /// For a meshed body: write one ParaView file per wedged cone, DIR/cone-N.vtu, or with a
+    /// pattern method per maximal pattern, DIR/pattern-N.vtu (old cone-N.vtu and pattern-N.vtu
+    /// files in DIR are removed).
     #[arg(long, value_name = "DIR")]
     vtk: Option<PathBuf>,
-    /// For a meshed body: write one picture per wedged cone, DIR/cone-N.svg (old cone-N.svg files
-    /// in DIR are removed).
+    /// For a meshed body: write one picture per wedged cone, DIR/cone-N.svg, or with a pattern
+    /// method per maximal pattern, DIR/pattern-N.svg (old cone-N.svg and pattern-N.svg files in
+    /// DIR are removed).
     #[arg(long, value_name = "DIR")]
     svg: Option<PathBuf>,
 }
@@ -152,26 +170,58 @@ struct JsonArg {
     json: Option<PathBuf>,
 }
 
-/// A [`Method`] as a command-line value, named by [`Method::name`].
-#[derive(Debug, Clone, Copy)]
-struct MethodArg(Method);
+/// A ray [`Method`] or a [`PatternMethod`] as a command-line value, named by their `name()`.
+/// The pyramid's number of faces comes from `--pyramid-faces`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum MethodArg {
+    Rays(Method),
+    Patterns(PatternMethod),
+}
+
+impl MethodArg {
+    fn name(self) -> &'static str {
+        match self {
+            MethodArg::Rays(m) => m.name(),
+            MethodArg::Patterns(m) => m.name(),
+        }
+    }
+}
 
 impl ValueEnum for MethodArg {
     fn value_variants<'a>() -> &'a [Self] {
         &[
-            MethodArg(Method::PrunedDd),
-            MethodArg(Method::FullDd),
-            MethodArg(Method::Faces),
+            MethodArg::Rays(Method::PrunedDd),
+            MethodArg::Rays(Method::FullDd),
+            MethodArg::Rays(Method::Faces),
+            MethodArg::Patterns(PatternMethod::Bnb),
+            MethodArg::Patterns(PatternMethod::Pyramid {
+                faces: DEFAULT_PYRAMID_FACES,
+            }),
+            MethodArg::Patterns(PatternMethod::Faces),
         ]
     }
 
     fn to_possible_value(&self) -> Option<PossibleValue> {
-        let help = match self.0 {
-            Method::PrunedDd => "the seed's pruned double description",
-            Method::FullDd => "every extreme ray by double description, then a filter",
-            Method::Faces => "brute force over the 2^m contact sets (small m only)",
+        let help = match self {
+            MethodArg::Rays(Method::PrunedDd) => "2D rays: the seed's pruned double description",
+            MethodArg::Rays(Method::FullDd) => {
+                "2D rays: every extreme ray by double description, then a filter"
+            }
+            MethodArg::Rays(Method::Faces) => {
+                "2D rays: brute force over the 2^m contact sets (small m only)"
+            }
+            MethodArg::Patterns(PatternMethod::Bnb) => {
+                "patterns (2D, 3D): branch and bound with conic relaxations"
+            }
+            MethodArg::Patterns(PatternMethod::Pyramid { .. }) => {
+                "patterns (2D, 3D): the 2D algorithm on a pyramid around the friction cone, \
+                 candidates checked exactly"
+            }
+            MethodArg::Patterns(PatternMethod::Faces) => {
+                "patterns (2D, 3D): brute force over the 2^m contact sets (m <= 12)"
+            }
         };
-        Some(PossibleValue::new(self.0.name()).help(help))
+        Some(PossibleValue::new(self.name()).help(help))
     }
 }
 
@@ -258,6 +308,15 @@ fn run(cli: Cli) -> Result<(), Failure> {
 
 fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
     let source = args.problem.display().to_string();
+    let faces = match args.pyramid_faces {
+        None => None,
+        Some(k) if (3..=64).contains(&k) => Some(k as usize),
+        Some(k) => {
+            return Err(Failure::Input(format!(
+                "--pyramid-faces must be from 3 to 64, got {k}"
+            )))
+        }
+    };
     let loaded = problem_file::load(&args.problem, args.mu.is_some())
         .map_err(|e| Failure::Input(e.to_string()))?;
     let problem = match args.mu {
@@ -267,23 +326,61 @@ fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
             .map_err(|e| Failure::Input(format!("--mu: {e}")))?,
         None => loaded.problem,
     };
-    let mut settings = Settings {
-        method: args.method.0,
-        ..Settings::default()
-    };
-    if let Some(t) = args.zero_tol {
-        settings.zero_tol = t;
-    }
+    let mut limits = Limits::default();
     if let Some(t) = args.time_limit {
         if !(t.is_finite() && t >= 0.0) {
             return Err(Failure::Input(format!(
                 "--time-limit must be a finite number of seconds >= 0, got {t}"
             )));
         }
-        settings.limits.time_limit = Some(Duration::from_secs_f64(t));
+        limits.time_limit = Some(Duration::from_secs_f64(t));
     }
-    settings.limits.max_rays = args.max_rays;
-    settings.limits.max_memory = args.max_memory;
+    limits.max_rays = args.max_rays;
+    limits.max_memory = args.max_memory;
+    let method = args.method.unwrap_or(if problem.dim() == 2 {
+        MethodArg::Rays(Method::PrunedDd)
+    } else {
+        MethodArg::Patterns(PatternMethod::Bnb)
+    });
+    if faces.is_some() && !matches!(method, MethodArg::Patterns(PatternMethod::Pyramid { .. })) {
+        return Err(Failure::Input(format!(
+            "--pyramid-faces is used by --method pyramid only, and the method is {}",
+            method.name()
+        )));
+    }
+    let mut choice = match method {
+        MethodArg::Rays(m) if problem.dim() != 2 => {
+            return Err(Failure::Input(format!(
+                "{source}: dim = {}: --method {} lists rays, which only a 2D problem has; use \
+                 --method bnb (the default in 3D) or --method pyramid",
+                problem.dim(),
+                m.name()
+            )))
+        }
+        MethodArg::Rays(method) => Choice::Rays(Settings {
+            method,
+            limits,
+            ..Settings::default()
+        }),
+        MethodArg::Patterns(PatternMethod::Pyramid { .. }) => Choice::Patterns(PatternSettings {
+            method: PatternMethod::Pyramid {
+                faces: faces.unwrap_or(DEFAULT_PYRAMID_FACES),
+            },
+            limits,
+            ..PatternSettings::default()
+        }),
+        MethodArg::Patterns(method) => Choice::Patterns(PatternSettings {
+            method,
+            limits,
+            ..PatternSettings::default()
+        }),
+    };
+    if let Some(t) = args.zero_tol {
+        match &mut choice {
+            Choice::Rays(s) => s.zero_tol = t,
+            Choice::Patterns(s) => s.zero_tol = t,
+        }
+    }
     if loaded.model.is_none() {
         for (given, option) in [(args.vtk.is_some(), "--vtk"), (args.svg.is_some(), "--svg")] {
             if given {
@@ -296,7 +393,7 @@ fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
     }
     report(
         &problem,
-        &settings,
+        &choice,
         &source,
         loaded.model.as_ref(),
         Outputs {
@@ -346,7 +443,7 @@ fn run_demo(args: DemoArgs) -> Result<(), Failure> {
     let json = dir.join("result.json");
     report(
         &problem,
-        &Settings::default(),
+        &Choice::Rays(Settings::default()),
         "demo",
         Some(&model),
         Outputs {
@@ -370,7 +467,7 @@ struct Outputs<'a> {
 /// that an unwritable path fails before a long computation.
 fn report(
     problem: &Problem,
-    settings: &Settings,
+    choice: &Choice,
     source: &str,
     model: Option<&Model>,
     outputs: Outputs,
@@ -391,17 +488,14 @@ fn report(
     if let Some(dir) = svg {
         export::prepare_dir(dir, "--svg", "svg").map_err(Failure::Input)?;
     }
-    let result = run_library(problem, settings, source)?;
+    let answer = run_library(problem, choice, source)?;
     let json_text = json
         .as_ref()
-        .map(|_| output::to_json(problem, settings, &result, model));
-    let incomplete = match result.outcome {
-        Outcome::Incomplete(stop) => Some(stop),
-        _ => None,
-    };
+        .map(|_| output::to_json(problem, choice, &answer, model));
+    let incomplete = answer.stopped();
     let written = match model {
         Some(model) if (vtk.is_some() || svg.is_some()) && incomplete.is_none() => {
-            export::write_cones(model, problem, &result, vtk, svg).map_err(Failure::Input)?
+            export::write_pieces(model, problem, &answer, vtk, svg).map_err(Failure::Input)?
         }
         _ => Vec::new(),
     };
@@ -421,9 +515,9 @@ fn report(
                 stdout_text.push_str(&summary::model(source, model));
             }
             stdout_text.push_str(&summary::render(
-                problem, settings, source, &result, json_path,
+                problem, choice, source, &answer, json_path,
             ));
-            stdout_text.push_str(&summary::files(&result, vtk, svg, &written));
+            stdout_text.push_str(&summary::files(&answer, vtk, svg, &written));
         }
     }
     if let (Some(target @ JsonTarget::File { .. }), Some(text)) = (json, &json_text) {
@@ -433,21 +527,38 @@ fn report(
     }
     write_stdout(&stdout_text)?;
     match incomplete {
-        Some(stop) => Err(Failure::Incomplete(format!(
-            "{source}: {stop} after {} of {} nodes; the result is incomplete",
-            result.info.rays_after_node.len(),
-            problem.nodes()
+        Some(stop) => Err(Failure::Incomplete(incomplete_text(
+            source, problem, &answer, stop,
         ))),
         None => Ok(()),
     }
 }
 
+/// The `incomplete: ...` line of an incomplete run.
+fn incomplete_text(source: &str, problem: &Problem, answer: &Answer, stop: Stop) -> String {
+    match answer {
+        Answer::Rays(result) => format!(
+            "{source}: {stop} after {} of {} nodes; the result is incomplete",
+            result.info.rays_after_node.len(),
+            problem.nodes()
+        ),
+        Answer::Patterns(result) if stop == Stop::Undecided => format!(
+            "{source}: {stop} ({} undecided, listed in the summary and the JSON); the patterns \
+             below them may be missing, so the result is incomplete",
+            result.undecided.len()
+        ),
+        Answer::Patterns(result) => format!(
+            "{source}: {stop} with {} found so far; the result is incomplete",
+            match result.patterns.len() {
+                1 => "1 maximal pattern".to_string(),
+                n => format!("{n} maximal patterns"),
+            }
+        ),
+    }
+}
+
 /// Runs the enumeration and sorts its errors into bad input and internal failures.
-fn run_library(
-    problem: &Problem,
-    settings: &Settings,
-    source: &str,
-) -> Result<Enumeration, Failure> {
+fn run_library(problem: &Problem, choice: &Choice, source: &str) -> Result<Answer, Failure> {
     // A live progress line on stderr, only for a person at a terminal and only once the run has
     // lasted a second: pipes, files and CI logs stay clean.
     let start = std::time::Instant::now();
@@ -456,27 +567,58 @@ fn run_library(
     let progress = |p: Progress| {
         if live && start.elapsed().as_secs_f64() > 1.0 {
             eprint!(
-                "\r  node {}/{}: {} rays held, {:.1} s   ",
-                p.done,
-                p.total,
-                p.rays,
-                start.elapsed().as_secs_f64()
+                "\r  {}   ",
+                progress_text(choice, p, start.elapsed().as_secs_f64())
             );
             shown.set(true);
         }
     };
-    let result = enumerate_with_control(problem, settings, &progress, &INTERRUPTED);
+    let result = match choice {
+        Choice::Rays(settings) => {
+            enumerate_with_control(problem, settings, &progress, &INTERRUPTED).map(Answer::Rays)
+        }
+        Choice::Patterns(settings) => {
+            enumerate_patterns_with_control(problem, settings, &progress, &INTERRUPTED)
+                .map(Answer::Patterns)
+        }
+    };
     if shown.get() {
         eprintln!();
     }
     result.map_err(|e| match e {
         EnumerateError::UnsupportedDim(d) => Failure::Input(format!(
-            "{source}: dim = {d}: enumerating 3D problems (by sign patterns) is not implemented \
-             yet; only dim = 2 can be enumerated"
+            "{source}: dim = {d}: --method {} needs a 2D problem; use --method bnb or pyramid",
+            choice.name()
         )),
         EnumerateError::InvalidSettings(m) => Failure::Input(format!("invalid option: {m}")),
         e @ EnumerateError::Verification(_) => Failure::Internal(format!("{source}: {e}")),
     })
+}
+
+/// The live progress line (without its carriage return).
+fn progress_text(choice: &Choice, p: Progress, seconds: f64) -> String {
+    match choice {
+        Choice::Patterns(PatternSettings {
+            method: PatternMethod::Bnb,
+            ..
+        }) => format!(
+            "explored {:.1}% of the search tree, {} found, {seconds:.1} s",
+            100.0 * p.done as f64 / p.total.max(1) as f64,
+            if p.rays == 1 {
+                "1 pattern".to_string()
+            } else {
+                format!("{} patterns", p.rays)
+            }
+        ),
+        Choice::Patterns(_) => format!(
+            "pyramid approximation, node {}/{}: {} rays held, {seconds:.1} s",
+            p.done, p.total, p.rays
+        ),
+        Choice::Rays(_) => format!(
+            "node {}/{}: {} rays held, {seconds:.1} s",
+            p.done, p.total, p.rays
+        ),
+    }
 }
 
 /// Writes to stdout; a closed pipe (`wedged demo | head`) ends the output quietly.
@@ -563,8 +705,75 @@ mod tests {
             .iter()
             .map(|m| m.to_possible_value().unwrap().get_name().to_string())
             .collect();
-        let library: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+        let mut library: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+        library.extend(
+            [
+                PatternMethod::Bnb,
+                PatternMethod::Pyramid { faces: 8 },
+                PatternMethod::Faces,
+            ]
+            .map(PatternMethod::name),
+        );
         assert_eq!(names, library);
+    }
+
+    #[test]
+    fn progress_lines_name_what_they_count() {
+        let p = Progress {
+            done: 372,
+            total: 1000,
+            rays: 5,
+        };
+        let bnb = Choice::Patterns(PatternSettings::default());
+        assert_eq!(
+            progress_text(&bnb, p, 3.42),
+            "explored 37.2% of the search tree, 5 patterns found, 3.4 s"
+        );
+        let rays = Choice::Rays(Settings::default());
+        let p = Progress {
+            done: 3,
+            total: 12,
+            rays: 40,
+        };
+        assert_eq!(
+            progress_text(&rays, p, 1.0),
+            "node 3/12: 40 rays held, 1.0 s"
+        );
+    }
+
+    #[test]
+    fn incomplete_pattern_runs_say_why_without_node_counts() {
+        use wedged::patterns::{PatternInfo, Patterns, Undecided};
+        let problem = Problem::new(3, nalgebra::DMatrix::identity(6, 6), 1.0).unwrap();
+        let mut result = Patterns {
+            outcome: wedged::Outcome::Incomplete(Stop::Undecided),
+            patterns: Vec::new(),
+            undecided: vec![Undecided {
+                contact: vec![true, false],
+                reason: "stalled".to_string(),
+            }],
+            info: PatternInfo::default(),
+        };
+        let text = incomplete_text(
+            "p.toml",
+            &problem,
+            &Answer::Patterns(result.clone()),
+            Stop::Undecided,
+        );
+        assert_eq!(
+            text,
+            "p.toml: the solver could not decide some contact sets (1 undecided, listed in the \
+             summary and the JSON); the patterns below them may be missing, so the result is \
+             incomplete"
+        );
+        result.undecided.clear();
+        let stop = Stop::TimeLimit(Duration::from_secs(2));
+        let text = incomplete_text("p.toml", &problem, &Answer::Patterns(result), stop);
+        assert_eq!(
+            text,
+            "p.toml: the time limit of 2 s ran out with 0 maximal patterns found so far; the \
+             result is incomplete"
+        );
     }
 
     #[test]

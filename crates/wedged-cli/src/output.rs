@@ -1,15 +1,44 @@
 //! The JSON result, a fixed format that scripts can rely on, and its atomic writing.
 //!
 //! ```text
-//! { "dim": 2, "mu": 1.0, "nodes": 4, "method": "pruned-dd", "outcome": "wedged" | "not-wedged",
+//! { "dim": 2, "mu": 1.0, "nodes": 4, "method": "pruned-dd",
+//!   "outcome": "wedged" | "not-wedged" | "incomplete", "complete": true, "stopped": null | "why",
 //!   "rays":  [ { "u": [..], "r": [..], "status": ["separated" | "stick" | "slip+" | "slip-" | "grazing", ..] } ],
 //!   "cones": [ { "rays": [0-based ray indices], "status": ["contact" | "separated" | "grazing", ..] } ],
-//!   "info":  { every field of wedged::Info },
+//!   "patterns": [ { "pattern": ["contact" | "separated" | "grazing", ..],
+//!                   "status": ["separated" | "stick" | "slip" | "slip+" | "slip-" | "grazing", ..],
+//!                   "u": [..], "r": [..], "margin": 0.01 | null } ],
+//!   "undecided": [ { "contact": [true | false, ..], "reason": ".." } ],
+//!   "info":  { every field of wedged::Info }                        (ray methods)
+//!          | { "method", "pyramid_faces", every field of wedged::PatternInfo }  (pattern methods),
+//!   "model": { .. },                                                (meshed bodies only)
 //!   "version": "0.1.0" }
 //! ```
 //!
-//! Vectors are in the local node frames, normal first, with rays normalised to `sum r_n = 1`.
-//! The top level and the lists are laid out one item per line; each item is on one line.
+//! Every key is always there (`model` for a meshed body only), whatever the method:
+//!
+//! - A ray method (`pruned-dd`, `full-dd`, `faces`; 2D) fills `rays` and `cones`, and derives
+//!   `patterns` from the cones, one per cone in the same order (`patterns[N]` is `cones[N]`, and
+//!   the files `cone-N.*`): `pattern` is the cone's, `status` is
+//!   [`wedged::Enumeration::cone_status`], `(u, r)` is the cone's centroid (the mean of its
+//!   rays, [`wedged::Enumeration::cone_centroid`]), and `margin` is `null`: the centroid is not
+//!   pushed away from the piece's boundary as a pattern method's witness is, so it has no
+//!   margin to report. `undecided` is empty.
+//! - A pattern method (`bnb`, `pyramid`, `pattern-faces`; 2D or 3D) leaves `rays` and `cones`
+//!   empty and fills `patterns` with the maximal realised sign patterns, sorted by pattern, each
+//!   with its witness (in the relative interior of its piece) and `margin`, the witness's
+//!   smallest positive entry (pressures, scaled gaps, stick slacks). `undecided` lists the
+//!   contact sets the conic solver could not decide (`contact[i]`: node `i` in contact), with
+//!   its reason; when it is not empty the run is incomplete (`"complete": false`, `"stopped"`
+//!   says why) because patterns below them may be missing. `info` holds `method`,
+//!   `pyramid_faces` (the pyramid's faces, `null` for the other methods) and every field of
+//!   `wedged::PatternInfo` under the same names. A run stopped early (time limit, Ctrl-C) lists
+//!   the patterns it found before the stop: each realised and checked, but others may be
+//!   missing and these may not all be maximal.
+//!
+//! Vectors are in the local node frames, normal first (`n, t` in 2D, `n, t1, t2` in 3D), with
+//! rays and witnesses normalised to `sum r_n = 1`. The top level and the lists are laid out one
+//! item per line; each item is on one line.
 
 use std::fmt;
 use std::io::{self, Write};
@@ -19,7 +48,10 @@ use serde::Serialize;
 use serde_json::ser::Formatter;
 use tempfile::NamedTempFile;
 use wedged::fe::Model;
-use wedged::{Enumeration, Info, Outcome, Problem, Settings};
+use wedged::patterns::{PatternInfo, Undecided};
+use wedged::{Info, Outcome, Problem};
+
+use crate::answer::{Answer, Choice, Piece};
 
 /// The whole JSON document.
 #[derive(Debug, Serialize)]
@@ -35,6 +67,10 @@ pub struct Report<'a> {
     pub stopped: Option<String>,
     pub rays: Vec<RayJson<'a>>,
     pub cones: Vec<ConeJson<'a>>,
+    /// The convex pieces, whatever the method (see the module documentation).
+    pub patterns: Vec<PatternJson>,
+    /// The contact sets a pattern method could not decide; empty for ray methods.
+    pub undecided: Vec<UndecidedJson<'a>>,
     pub info: InfoJson<'a>,
     /// For a meshed body: the model behind the condensed `K`.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -115,9 +151,118 @@ pub struct ConeJson<'a> {
     pub status: Vec<&'static str>,
 }
 
+/// One convex piece: its pattern, the status at its witness, the witness, the margin.
+#[derive(Debug, Serialize)]
+pub struct PatternJson {
+    pub pattern: Vec<&'static str>,
+    pub status: Vec<&'static str>,
+    pub u: Vec<f64>,
+    pub r: Vec<f64>,
+    /// `null` for the cone of a ray method.
+    pub margin: Option<f64>,
+}
+
+impl From<&Piece> for PatternJson {
+    fn from(piece: &Piece) -> Self {
+        PatternJson {
+            pattern: piece.pattern.iter().map(|p| p.name()).collect(),
+            status: piece.status.iter().map(|s| s.name()).collect(),
+            u: piece.u.clone(),
+            r: piece.r.clone(),
+            margin: piece.margin,
+        }
+    }
+}
+
+/// A contact set the solver could not decide.
+#[derive(Debug, Serialize)]
+pub struct UndecidedJson<'a> {
+    pub contact: &'a [bool],
+    pub reason: &'a str,
+}
+
+impl<'a> From<&'a Undecided> for UndecidedJson<'a> {
+    fn from(u: &'a Undecided) -> Self {
+        UndecidedJson {
+            contact: &u.contact,
+            reason: &u.reason,
+        }
+    }
+}
+
+/// The diagnostics: of a ray method or of a pattern method.
+#[derive(Debug, Serialize)]
+#[serde(untagged)]
+pub enum InfoJson<'a> {
+    Rays(RayInfoJson<'a>),
+    Patterns(PatternInfoJson),
+}
+
+/// The method, the pyramid's faces and every field of [`wedged::patterns::PatternInfo`], under
+/// the same names.
+#[derive(Debug, Serialize)]
+pub struct PatternInfoJson {
+    pub method: &'static str,
+    pub pyramid_faces: Option<usize>,
+    pub nodes_visited: u64,
+    pub nodes_inherited: u64,
+    pub pruned_infeasible: u64,
+    pub pruned_unpressed: u64,
+    pub leaves: u64,
+    pub candidates: u64,
+    pub spurious: u64,
+    pub pyramid_rays: u64,
+    pub socps: u64,
+    pub retries: u64,
+    pub uncertain: u64,
+    pub near_degenerate: u64,
+    pub realised: u64,
+    pub seconds: f64,
+}
+
+impl PatternInfoJson {
+    fn new(choice: &Choice, info: &PatternInfo) -> PatternInfoJson {
+        // No `..`: a new field of PatternInfo must be added here too.
+        let PatternInfo {
+            nodes_visited,
+            nodes_inherited,
+            pruned_infeasible,
+            pruned_unpressed,
+            leaves,
+            candidates,
+            spurious,
+            pyramid_rays,
+            socps,
+            retries,
+            uncertain,
+            near_degenerate,
+            realised,
+            seconds,
+        } = *info;
+        PatternInfoJson {
+            method: choice.name(),
+            pyramid_faces: choice.pyramid_faces(),
+            nodes_visited,
+            nodes_inherited,
+            pruned_infeasible,
+            pruned_unpressed,
+            leaves,
+            candidates,
+            spurious,
+            pyramid_rays,
+            socps,
+            retries,
+            uncertain,
+            near_degenerate,
+            realised,
+            seconds,
+        }
+    }
+}
+
 /// Every field of [`wedged::Info`], under the same names.
 #[derive(Debug, Serialize)]
-pub struct InfoJson<'a> {
+pub struct RayInfoJson<'a> {
     pub rays_after_node: &'a [usize],
     pub node_order: &'a [usize],
     pub pairs_tested: u64,
@@ -132,7 +277,7 @@ pub struct InfoJson<'a> {
     pub seconds: f64,
 }
 
-impl<'a> From<&'a Info> for InfoJson<'a> {
+impl<'a> From<&'a Info> for RayInfoJson<'a> {
     fn from(info: &'a Info) -> Self {
         // No `..`: a new field of Info must be added here too.
         let Info {
@@ -149,7 +294,7 @@ impl<'a> From<&'a Info> for InfoJson<'a> {
             extreme_rays_total,
             seconds,
         } = info;
-        InfoJson {
+        RayInfoJson {
             rays_after_node,
             node_order,
             pairs_tested: *pairs_tested,
@@ -169,43 +314,60 @@ impl<'a> From<&'a Info> for InfoJson<'a> {
 impl<'a> Report<'a> {
     pub fn new(
         problem: &Problem,
-        settings: &Settings,
-        result: &'a Enumeration,
+        choice: &Choice,
+        answer: &'a Answer,
         model: Option<&Model>,
     ) -> Report<'a> {
+        let outcome = answer.outcome();
+        let (rays, cones, undecided, info) = match answer {
+            Answer::Rays(result) => (
+                result
+                    .rays
+                    .iter()
+                    .map(|ray| RayJson {
+                        u: &ray.u,
+                        r: &ray.r,
+                        status: ray.status.iter().map(|s| s.name()).collect(),
+                    })
+                    .collect(),
+                result
+                    .cones
+                    .iter()
+                    .map(|cone| ConeJson {
+                        rays: &cone.rays,
+                        status: cone.pattern.iter().map(|p| p.name()).collect(),
+                    })
+                    .collect(),
+                Vec::new(),
+                InfoJson::Rays(RayInfoJson::from(&result.info)),
+            ),
+            Answer::Patterns(result) => (
+                Vec::new(),
+                Vec::new(),
+                result.undecided.iter().map(UndecidedJson::from).collect(),
+                InfoJson::Patterns(PatternInfoJson::new(choice, &result.info)),
+            ),
+        };
         Report {
             dim: problem.dim(),
             mu: problem.mu(),
             nodes: problem.nodes(),
-            method: settings.method.name(),
-            outcome: match result.outcome {
+            method: choice.name(),
+            outcome: match outcome {
                 Outcome::Wedged => "wedged",
                 Outcome::NotWedged => "not-wedged",
                 Outcome::Incomplete(_) => "incomplete",
             },
-            complete: !matches!(result.outcome, Outcome::Incomplete(_)),
-            stopped: match result.outcome {
+            complete: !matches!(outcome, Outcome::Incomplete(_)),
+            stopped: match outcome {
                 Outcome::Incomplete(stop) => Some(stop.to_string()),
                 _ => None,
             },
-            rays: result
-                .rays
-                .iter()
-                .map(|ray| RayJson {
-                    u: &ray.u,
-                    r: &ray.r,
-                    status: ray.status.iter().map(|s| s.name()).collect(),
-                })
-                .collect(),
-            cones: result
-                .cones
-                .iter()
-                .map(|cone| ConeJson {
-                    rays: &cone.rays,
-                    status: cone.pattern.iter().map(|p| p.name()).collect(),
-                })
-                .collect(),
-            info: InfoJson::from(&result.info),
+            rays,
+            cones,
+            patterns: answer.pieces().iter().map(PatternJson::from).collect(),
+            undecided,
+            info,
             model: model.map(ModelJson::new),
             version: env!("CARGO_PKG_VERSION"),
         }
@@ -215,11 +377,11 @@ impl<'a> Report<'a> {
 /// The JSON text of a result, ending with a newline.
 pub fn to_json(
     problem: &Problem,
-    settings: &Settings,
-    result: &Enumeration,
+    choice: &Choice,
+    answer: &Answer,
     model: Option<&Model>,
 ) -> String {
-    let report = Report::new(problem, settings, result, model);
+    let report = Report::new(problem, choice, answer, model);
     let mut buf = Vec::new();
     let mut ser = serde_json::Serializer::with_formatter(&mut buf, ShallowPretty::default());
     report
@@ -416,6 +578,68 @@ pub fn write_atomic(path: &Path, bytes: &[u8], what: &str) -> Result<(), WriteEr
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A pattern run left with an undecided contact set: incomplete, the set listed, the
+    /// pattern's witness and margin, the pattern info with the method.
+    #[test]
+    fn an_undecided_pattern_run_is_incomplete_in_the_json() {
+        use wedged::patterns::{Pattern, PatternMethod, PatternSettings, Patterns};
+        use wedged::{ContactPattern, NodeStatus, Stop};
+        let problem = Problem::new(3, nalgebra::DMatrix::identity(6, 6), 1.0).unwrap();
+        let answer = Answer::Patterns(Patterns {
+            outcome: Outcome::Incomplete(Stop::Undecided),
+            patterns: vec![Pattern {
+                pattern: vec![ContactPattern::Contact, ContactPattern::Separated],
+                status: vec![NodeStatus::Slip, NodeStatus::Separated],
+                u: vec![0.0, 0.5, 0.5, 0.25, 0.0, 0.0],
+                r: vec![1.0, 0.5, 0.5, 0.0, 0.0, 0.0],
+                margin: 0.25,
+            }],
+            undecided: vec![Undecided {
+                contact: vec![true, true],
+                reason: "stalled".to_string(),
+            }],
+            info: PatternInfo {
+                socps: 7,
+                ..PatternInfo::default()
+            },
+        });
+        let choice = Choice::Patterns(PatternSettings {
+            method: PatternMethod::Pyramid { faces: 12 },
+            ..PatternSettings::default()
+        });
+        let json: serde_json::Value =
+            serde_json::from_str(&to_json(&problem, &choice, &answer, None)).unwrap();
+        assert_eq!(json["complete"], false);
+        assert_eq!(json["outcome"], "incomplete");
+        assert_eq!(
+            json["stopped"],
+            "the solver could not decide some contact sets"
+        );
+        assert_eq!(json["method"], "pyramid");
+        assert_eq!(json["rays"], serde_json::json!([]));
+        assert_eq!(json["cones"], serde_json::json!([]));
+        assert_eq!(
+            json["undecided"],
+            serde_json::json!([{"contact": [true, true], "reason": "stalled"}])
+        );
+        assert_eq!(
+            json["patterns"],
+            serde_json::json!([{
+                "pattern": ["contact", "separated"],
+                "status": ["slip", "separated"],
+                "u": [0.0, 0.5, 0.5, 0.25, 0.0, 0.0],
+                "r": [1.0, 0.5, 0.5, 0.0, 0.0, 0.0],
+                "margin": 0.25
+            }])
+        );
+        let info = json["info"].as_object().unwrap();
+        assert_eq!(info["method"], "pyramid");
+        assert_eq!(info["pyramid_faces"], 12);
+        assert_eq!(info["socps"], 7);
+        // method, pyramid_faces and the 14 fields of PatternInfo.
+        assert_eq!(info.len(), 16, "{info:?}");
+    }
 
     #[test]
     fn layout_is_shallow_pretty_and_valid() {

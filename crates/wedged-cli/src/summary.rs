@@ -1,14 +1,19 @@
-//! The human-readable summary printed on stdout: header, outcome, rays, cones, info.
+//! The human-readable summary printed on stdout: header, outcome, rays and cones (ray methods)
+//! or maximal sign patterns (pattern methods), diagnostics.
 //!
-//! Ray and cone indices are 0-based, as in the JSON; nodes are numbered from 1, as in the
-//! library's error messages. Up to [`FULL_NAMES_UP_TO`] nodes the statuses are spelt out in
-//! columns; beyond, each node is one character, in groups of ten.
+//! Ray, cone and pattern indices are 0-based, as in the JSON; nodes are numbered from 1, as in
+//! the library's error messages. In the ray table, up to [`FULL_NAMES_UP_TO`] nodes the statuses
+//! are spelt out in columns; beyond, and always in the pattern table, each node is one
+//! character, in groups of ten.
 
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
 use wedged::fe::{ElementKind, Model, Plane};
-use wedged::{ContactPattern, Enumeration, Info, NodeStatus, Outcome, Problem, Settings};
+use wedged::patterns::{PatternMethod, Patterns};
+use wedged::{ContactPattern, Enumeration, Info, NodeStatus, Outcome, Problem, Stop};
+
+use crate::answer::{Answer, Choice};
 
 use crate::svg::sig4;
 
@@ -23,6 +28,8 @@ const LIST_LIMIT: usize = 50;
 const INFO_LIST_LIMIT: usize = 20;
 
 const STATUS_LEGEND: &str = "o separated, s stick, + slip+, - slip-, g grazing";
+/// The legend of 3D statuses: slip is on the round friction cone, in no particular direction.
+const STATUS_LEGEND_3D: &str = "o separated, s stick, ~ slip, g grazing";
 const PATTERN_LEGEND: &str = "C contact, o separated, g grazing";
 
 fn status_code(s: NodeStatus) -> char {
@@ -31,7 +38,17 @@ fn status_code(s: NodeStatus) -> char {
         NodeStatus::Stick => 's',
         NodeStatus::SlipPlus => '+',
         NodeStatus::SlipMinus => '-',
+        NodeStatus::Slip => '~',
         NodeStatus::Grazing => 'g',
+    }
+}
+
+/// The legend of the status characters of a `dim`-dimensional problem.
+fn status_legend(dim: usize) -> &'static str {
+    if dim == 3 {
+        STATUS_LEGEND_3D
+    } else {
+        STATUS_LEGEND
     }
 }
 
@@ -55,29 +72,70 @@ fn codes(chars: impl Iterator<Item = char>) -> String {
     s
 }
 
+/// Lines of the diagnostics are wrapped at this width.
+const WRAP: usize = 100;
+
+/// Writes `text` as lines of at most [`WRAP`] characters (words are not split), the first
+/// indented by `first`, the others by `rest` spaces.
+fn wrapped(out: &mut String, first: usize, rest: usize, text: &str) {
+    let mut line = " ".repeat(first);
+    let mut empty = true;
+    for word in text.split_whitespace() {
+        if !empty && line.len() + 1 + word.len() > WRAP {
+            out.push_str(&line);
+            out.push('\n');
+            line = " ".repeat(rest);
+            empty = true;
+        }
+        if !empty {
+            line.push(' ');
+        }
+        line.push_str(word);
+        empty = false;
+    }
+    out.push_str(&line);
+    out.push('\n');
+}
+
 fn plural(n: usize, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })
 }
 
-/// The summary of `result` for `problem` (read from `source`); `json` is the JSON file written,
+/// The summary of `answer` for `problem` (read from `source`); `json` is the JSON file written,
 /// if any.
 pub fn render(
     problem: &Problem,
-    settings: &Settings,
+    choice: &Choice,
     source: &str,
-    result: &Enumeration,
+    answer: &Answer,
     json: Option<&Path>,
 ) -> String {
-    let m = problem.nodes();
     let mut out = String::new();
+    let faces = match choice.pyramid_faces() {
+        Some(k) if problem.dim() == 3 => format!(" ({k} faces)"),
+        _ => String::new(),
+    };
     let _ = writeln!(
         out,
-        "problem {source}: dim {}, {}, mu = {}, method {}",
+        "problem {source}: dim {}, {}, mu = {}, method {}{faces}",
         problem.dim(),
-        plural(m, "node", "nodes"),
+        plural(problem.nodes(), "node", "nodes"),
         problem.mu(),
-        settings.method.name()
+        choice.name()
     );
+    match answer {
+        Answer::Rays(result) => render_rays(&mut out, problem, result),
+        Answer::Patterns(result) => render_patterns(&mut out, problem, choice, result),
+    }
+    if let Some(path) = json {
+        let _ = writeln!(out, "JSON written to {}", path.display());
+    }
+    out
+}
+
+/// The outcome, the tables and the info line of a ray method.
+fn render_rays(out: &mut String, problem: &Problem, result: &Enumeration) {
+    let m = problem.nodes();
     match result.outcome {
         Outcome::Incomplete(stop) => {
             let _ = writeln!(
@@ -94,7 +152,7 @@ pub fn render(
                     plural(result.rays.len(), "ray", "rays")
                 );
                 out.push('\n');
-                rays_table(&mut out, problem, result);
+                rays_table(out, problem, result);
             }
         }
         Outcome::NotWedged => {
@@ -116,17 +174,235 @@ pub fn render(
                 plural(result.cones.len(), "convex piece", "convex pieces")
             );
             out.push('\n');
-            rays_table(&mut out, problem, result);
+            rays_table(out, problem, result);
             out.push('\n');
-            cones_table(&mut out, result);
+            cones_table(out, result);
         }
     }
     out.push('\n');
     let _ = writeln!(out, "info: {}", info_line(&result.info));
-    if let Some(path) = json {
-        let _ = writeln!(out, "JSON written to {}", path.display());
+}
+
+/// The outcome, the warnings, the table and the diagnostics of a pattern method.
+fn render_patterns(out: &mut String, problem: &Problem, choice: &Choice, result: &Patterns) {
+    let n = result.patterns.len();
+    match result.outcome {
+        Outcome::Incomplete(Stop::Undecided) => {
+            let _ = writeln!(
+                out,
+                "INCOMPLETE: {} (see the warnings); {} found, but patterns below the undecided \
+                 contact sets may be missing",
+                Stop::Undecided,
+                plural(n, "maximal sign pattern was", "maximal sign patterns were")
+            );
+        }
+        Outcome::Incomplete(stop) => {
+            let _ = writeln!(
+                out,
+                "INCOMPLETE: {stop}; nothing is claimed about the patterns not reported{}",
+                if n > 0 {
+                    format!(
+                        ", and the {} found before the stop (realised and checked) may not all \
+                         be maximal",
+                        plural(n, "pattern", "patterns")
+                    )
+                } else {
+                    String::new()
+                }
+            );
+        }
+        Outcome::NotWedged => {
+            let _ = writeln!(
+                out,
+                "no wedged configuration: only the trivial solution u = r = 0 exists at mu = {}",
+                problem.mu()
+            );
+        }
+        Outcome::Wedged => {
+            let _ = writeln!(
+                out,
+                "{} (the convex pieces of the set of wedged configurations)",
+                plural(n, "maximal sign pattern", "maximal sign patterns")
+            );
+        }
     }
-    out
+    for u in &result.undecided {
+        let nodes: Vec<usize> = (0..u.contact.len())
+            .filter(|&i| u.contact[i])
+            .map(|i| i + 1)
+            .collect();
+        let set = if nodes.is_empty() {
+            "no node".to_string()
+        } else {
+            format!(
+                "{} {}",
+                if nodes.len() == 1 { "node" } else { "nodes" },
+                ranges(&nodes)
+            )
+        };
+        let _ = writeln!(
+            out,
+            "WARNING: the solver could not decide the contact set {{{set}}} ({}); the patterns \
+             below it may be missing",
+            crate::one_line(&u.reason)
+        );
+    }
+    if n > 0 {
+        out.push('\n');
+        patterns_table(out, problem, result);
+    }
+    out.push('\n');
+    pattern_info(out, problem, choice, result);
+}
+
+/// One row per maximal pattern: the widest gap and the margin of its witness, and one status
+/// character per node.
+fn patterns_table(out: &mut String, problem: &Problem, result: &Patterns) {
+    let m = problem.nodes();
+    let d = problem.dim();
+    wrapped(
+        out,
+        0,
+        2,
+        "maximal sign patterns (a witness in each piece, normalised to sum r_n = 1; max u_n is \
+         its widest gap, margin its smallest positive entry):",
+    );
+    let width = result
+        .patterns
+        .len()
+        .saturating_sub(1)
+        .to_string()
+        .len()
+        .max(1);
+    let _ = writeln!(
+        out,
+        "  {:>width$}  {:>9}  {:>9}  status at the witness of nodes 1-{m}{}",
+        "#",
+        "max u_n",
+        "margin",
+        if m > 10 { ", in groups of ten" } else { "" }
+    );
+    for (index, pattern) in result.patterns.iter().enumerate().take(LIST_LIMIT) {
+        let max_gap = (0..m)
+            .filter(|&i| pattern.status[i] == NodeStatus::Separated)
+            .map(|i| pattern.u[d * i])
+            .fold(0.0_f64, f64::max);
+        let gap = if max_gap > 0.0 {
+            format!("{max_gap:.3e}")
+        } else {
+            "0".to_string()
+        };
+        let _ = writeln!(
+            out,
+            "  {index:>width$}  {gap:>9}  {:>9.3e}  {}",
+            pattern.margin,
+            codes(pattern.status.iter().map(|&s| status_code(s)))
+        );
+    }
+    more(out, result.patterns.len(), "patterns");
+    wrapped(
+        out,
+        2,
+        3,
+        &format!(
+            "({}; a pattern's contact nodes are the pressed ones: {})",
+            status_legend(d),
+            if d == 3 { "s and ~" } else { "s, + and -" }
+        ),
+    );
+}
+
+/// `2^m - minus` as an exact integer while it is short, else in floating point.
+fn power_of_two(m: usize, minus: u64) -> String {
+    if m <= 40 {
+        ((1u64 << m) - minus).to_string()
+    } else {
+        format!("{:.3e}", 2f64.powi(m as i32))
+    }
+}
+
+/// The share of the full binary tree over the `m` nodes (`2^(m+1) - 1` search nodes) that the
+/// branch and bound never visited: `1 - (nodes_visited + leaves) / (2^(m+1) - 1)`.
+fn pruned_fraction(m: usize, nodes_visited: u64, leaves: u64) -> f64 {
+    let tree = 2f64.powi(m as i32 + 1) - 1.0;
+    (1.0 - (nodes_visited + leaves) as f64 / tree).clamp(0.0, 1.0)
+}
+
+/// The diagnostics of a pattern method: the search, the conic programs, the time.
+fn pattern_info(out: &mut String, problem: &Problem, choice: &Choice, result: &Patterns) {
+    let m = problem.nodes();
+    let info = &result.info;
+    let _ = writeln!(
+        out,
+        "info: {}; {} realised, {} of them maximal",
+        seconds_text(info.seconds),
+        plural(info.realised as usize, "pattern", "patterns"),
+        result.patterns.len()
+    );
+    let search = match choice {
+        Choice::Patterns(s) if s.method == PatternMethod::Bnb => {
+            let fraction = match result.outcome {
+                // A search stopped early has not pruned what it did not reach.
+                Outcome::Incomplete(stop) if stop != Stop::Undecided => {
+                    "the search stopped before the end".to_string()
+                }
+                _ => format!(
+                    "pruned fraction {:.4} (the share of the 2^{} - 1 = {} nodes of the full \
+                     tree never visited)",
+                    pruned_fraction(m, info.nodes_visited, info.leaves),
+                    m + 1,
+                    power_of_two(m + 1, 1)
+                ),
+            };
+            format!(
+                "branch and bound: {} visited, {} pruned (infeasible) + {} pruned (a contact node \
+                 could not be pressed), {} reached of 2^{m} = {}; {fraction}",
+                plural(info.nodes_visited as usize, "node", "nodes"),
+                info.pruned_infeasible,
+                info.pruned_unpressed,
+                plural(info.leaves as usize, "leaf", "leaves"),
+                power_of_two(m, 0),
+            )
+        }
+        Choice::Patterns(s) if matches!(s.method, PatternMethod::Pyramid { .. }) => {
+            let faces = match s.method {
+                PatternMethod::Pyramid { faces } if problem.dim() == 3 => {
+                    format!("{faces} faces")
+                }
+                _ => "2D: exact, the friction law is already polyhedral".to_string(),
+            };
+            format!(
+                "pyramid approximation ({faces}): {} of the approximation, {} (its maximal \
+                 patterns), {} spurious (not realised as they stood)",
+                plural(info.pyramid_rays as usize, "ray", "rays"),
+                plural(info.candidates as usize, "candidate", "candidates"),
+                info.spurious
+            )
+        }
+        _ => format!(
+            "brute force: {} of the 2^{m} - 1 = {} nonempty contact sets have a nontrivial cone",
+            info.candidates,
+            power_of_two(m, 1)
+        ),
+    };
+    wrapped(out, 2, 4, &search);
+    wrapped(
+        out,
+        2,
+        4,
+        &format!(
+            "{} solved ({} retried, {} undecided, {} near-degenerate {})",
+            plural(info.socps as usize, "SOCP", "SOCPs"),
+            info.retries,
+            info.uncertain,
+            info.near_degenerate,
+            if info.near_degenerate == 1 {
+                "decision"
+            } else {
+                "decisions"
+            }
+        ),
+    );
 }
 
 fn rays_table(out: &mut String, problem: &Problem, result: &Enumeration) {
@@ -420,34 +696,38 @@ pub fn model(source: &str, model: &Model) -> String {
 
 /// Which VTU and SVG files were written.
 pub fn files(
-    result: &Enumeration,
+    answer: &Answer,
     vtk: Option<&Path>,
     svg: Option<&Path>,
     written: &[PathBuf],
 ) -> String {
     let mut out = String::new();
+    let (none, stem, each) = match answer {
+        Answer::Rays(_) => ("no wedged cone", "cone", "cone"),
+        Answer::Patterns(_) => ("no wedged pattern", "pattern", "maximal pattern"),
+    };
     for (dir, ext, what) in [(vtk, "vtu", "ParaView file"), (svg, "svg", "picture")] {
         let Some(dir) = dir else { continue };
         let n = written
             .iter()
             .filter(|p| p.extension().is_some_and(|e| e == ext))
             .count();
-        if matches!(result.outcome, Outcome::Incomplete(_)) {
+        if matches!(answer.outcome(), Outcome::Incomplete(_)) {
             let _ = writeln!(
                 out,
                 "the run is incomplete, so no .{ext} file was written to {}",
                 dir.display()
             );
-        } else if result.cones.is_empty() {
+        } else if n == 0 {
             let _ = writeln!(
                 out,
-                "no wedged cone, so no .{ext} file was written to {}",
+                "{none}, so no .{ext} file was written to {}",
                 dir.display()
             );
         } else {
             let _ = writeln!(
                 out,
-                "{} written to {} (cone-N.{ext}, one {what} per cone)",
+                "{} written to {} ({stem}-N.{ext}, one {what} per {each})",
                 plural(n, &format!(".{ext} file"), &format!(".{ext} files")),
                 dir.display()
             );
@@ -500,7 +780,13 @@ mod tests {
                 ..Info::default()
             },
         };
-        let text = render(&problem, &Settings::default(), "big.toml", &result, None);
+        let text = render(
+            &problem,
+            &Choice::Rays(wedged::Settings::default()),
+            "big.toml",
+            &Answer::Rays(result),
+            None,
+        );
         assert!(text.contains("60 wedged configurations"), "{text}");
         assert!(
             text.contains("\n   0   2.000e-2  os+-gos+-g os\n"),
@@ -516,5 +802,145 @@ mod tests {
     #[test]
     fn codes_group_by_ten() {
         assert_eq!(codes("abcdefghijkl".chars()), "abcdefghij kl");
+    }
+
+    /// A made-up 3D pattern run with undecided contact sets: the layout only.
+    fn undecided_run() -> (Problem, Patterns) {
+        use wedged::patterns::{Pattern, PatternInfo, Undecided};
+        let m = 12;
+        let problem = Problem::new(3, nalgebra::DMatrix::identity(3 * m, 3 * m), 1.0).unwrap();
+        let mut status = vec![NodeStatus::Stick; m];
+        status[1] = NodeStatus::Slip;
+        status[2] = NodeStatus::Separated;
+        status[11] = NodeStatus::Grazing;
+        let pattern = status
+            .iter()
+            .map(|s| match s {
+                NodeStatus::Separated => ContactPattern::Separated,
+                NodeStatus::Grazing => ContactPattern::Grazing,
+                _ => ContactPattern::Contact,
+            })
+            .collect();
+        let mut u = vec![0.0; 3 * m];
+        u[6] = 0.25;
+        let result = Patterns {
+            outcome: Outcome::Incomplete(Stop::Undecided),
+            patterns: vec![Pattern {
+                pattern,
+                status,
+                u,
+                r: vec![0.0; 3 * m],
+                margin: 0.0125,
+            }],
+            undecided: vec![
+                Undecided {
+                    contact: (0..m).map(|i| i < 3 || i == 7).collect(),
+                    reason: "the solver stalled\ntwice".to_string(),
+                },
+                Undecided {
+                    contact: vec![false; m],
+                    reason: "no progress".to_string(),
+                },
+            ],
+            info: PatternInfo {
+                nodes_visited: 100,
+                pruned_infeasible: 20,
+                pruned_unpressed: 30,
+                leaves: 27,
+                socps: 400,
+                retries: 3,
+                uncertain: 2,
+                near_degenerate: 1,
+                realised: 5,
+                seconds: 1.5,
+                ..PatternInfo::default()
+            },
+        };
+        (problem, result)
+    }
+
+    #[test]
+    fn undecided_contact_sets_are_warned_about() {
+        let (problem, result) = undecided_run();
+        let choice = Choice::Patterns(wedged::patterns::PatternSettings::default());
+        let text = render(&problem, &choice, "p.toml", &Answer::Patterns(result), None);
+        assert!(
+            text.contains("INCOMPLETE: the solver could not decide some contact sets"),
+            "{text}"
+        );
+        assert!(
+            text.contains(
+                "WARNING: the solver could not decide the contact set {nodes 1-3 8} (the solver \
+                 stalled; twice); the patterns below it may be missing\n"
+            ),
+            "{text}"
+        );
+        assert!(text.contains("{no node} (no progress)"), "{text}");
+        // The row: index, widest gap, margin, statuses in groups of ten; the 3D legend.
+        assert!(
+            text.contains("  0   2.500e-1   1.250e-2  s~osssssss sg\n"),
+            "{text}"
+        );
+        assert!(text.contains(STATUS_LEGEND_3D), "{text}");
+        assert!(text.contains("nodes 1-12, in groups of ten"), "{text}");
+        // The diagnostics: 1 - (100 + 27) / (2^13 - 1).
+        assert!(text.contains("pruned fraction 0.9845"), "{text}");
+        assert!(text.contains("8191 nodes of the full tree"), "{text}");
+        assert!(text.contains("27 leaves reached of 2^12 = 4096"), "{text}");
+        assert!(
+            text.contains("400 SOCPs solved (3 retried, 2 undecided, 1 near-degenerate decision)"),
+            "{text}"
+        );
+        // Only the outcome and the warnings are long lines (one each, for grep).
+        assert!(
+            text.lines().all(|l| l.len() <= WRAP
+                || l.starts_with("WARNING")
+                || l.starts_with("INCOMPLETE")),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn a_stopped_pattern_run_claims_no_pruning() {
+        let (problem, mut result) = undecided_run();
+        result.outcome = Outcome::Incomplete(Stop::Interrupted);
+        result.undecided.clear();
+        let choice = Choice::Patterns(wedged::patterns::PatternSettings::default());
+        let answer = Answer::Patterns(result);
+        let text = render(&problem, &choice, "p.toml", &answer, None);
+        assert!(
+            text.contains("INCOMPLETE: the run was interrupted"),
+            "{text}"
+        );
+        assert!(text.contains("may not all be maximal"), "{text}");
+        assert!(text.contains("the search stopped before the end"), "{text}");
+        assert!(!text.contains("pruned fraction"), "{text}");
+        let dir = Path::new("/tmp/out");
+        let files = files(&answer, Some(dir), None, &[]);
+        assert!(
+            files.contains("the run is incomplete, so no .vtu file"),
+            "{files}"
+        );
+    }
+
+    #[test]
+    fn pruned_fraction_and_powers() {
+        assert_eq!(pruned_fraction(2, 3, 4), 0.0);
+        assert!((pruned_fraction(3, 3, 1) - (1.0 - 4.0 / 15.0)).abs() < 1e-15);
+        assert_eq!(power_of_two(6, 0), "64");
+        assert_eq!(power_of_two(7, 1), "127");
+        assert_eq!(power_of_two(49, 1), "5.629e14");
+    }
+
+    #[test]
+    fn wrapping_keeps_words_and_indents() {
+        let mut out = String::new();
+        let long = "word ".repeat(40);
+        wrapped(&mut out, 2, 4, &long);
+        let lines: Vec<&str> = out.lines().collect();
+        assert!(lines.len() > 1);
+        assert!(lines[0].starts_with("  word") && lines[1].starts_with("    word"));
+        assert!(lines.iter().all(|l| l.len() <= WRAP));
+        assert_eq!(out.split_whitespace().count(), 40);
     }
 }

@@ -64,13 +64,31 @@ const VIRIDIS: [u32; 17] = [
 ];
 
 /// The statuses in legend order.
-const STATUSES: [NodeStatus; 5] = [
+const STATUSES: [NodeStatus; 6] = [
     NodeStatus::Stick,
     NodeStatus::SlipPlus,
     NodeStatus::SlipMinus,
+    NodeStatus::Slip,
     NodeStatus::Grazing,
     NodeStatus::Separated,
 ];
+
+/// The statuses of the legend: those a configuration of this dimension can have (2D slips one
+/// way or the other, 3D on the round friction cone), and any other one the view holds.
+fn legend_statuses(view: &View) -> Vec<NodeStatus> {
+    let three_d = view.mesh.dim() == 3;
+    STATUSES
+        .into_iter()
+        .filter(|&s| {
+            view.status.contains(&s)
+                || match s {
+                    NodeStatus::SlipPlus | NodeStatus::SlipMinus => !three_d,
+                    NodeStatus::Slip => three_d,
+                    _ => true,
+                }
+        })
+        .collect()
+}
 
 type P2 = [f64; 2];
 type P3 = [f64; 3];
@@ -107,6 +125,7 @@ fn status_style(status: NodeStatus) -> (&'static str, &'static str, &'static str
         NodeStatus::SlipPlus => ("slip-plus", "#ff7f0e", "#8a4100"),
         NodeStatus::SlipMinus => ("slip-minus", "#d62728", "#6e1010"),
         NodeStatus::Grazing => ("grazing", "#9467bd", "#4a2c66"),
+        NodeStatus::Slip => ("slip", "#ff7f0e", "#8a4100"),
     }
 }
 
@@ -1146,7 +1165,7 @@ fn draw_legend(svg: &mut Svg, scene: &Scene) {
         " font-weight=\"bold\"",
         "Contact nodes",
     );
-    for status in STATUSES {
+    for status in legend_statuses(view) {
         y += 19.0;
         let count = view.status.iter().filter(|&&s| s == status).count();
         let mut out = String::new();
@@ -1683,8 +1702,7 @@ mod tests {
                 });
                 let st = match contact_nodes.len() % 7 {
                     0 => NodeStatus::Separated,
-                    1 => NodeStatus::SlipPlus,
-                    2 => NodeStatus::SlipMinus,
+                    1 | 2 => NodeStatus::Slip,
                     3 => NodeStatus::Grazing,
                     _ => NodeStatus::Stick,
                 };
@@ -1787,8 +1805,21 @@ mod tests {
         // Every circle and arrow has a tooltip.
         assert!(count(svg, "<title>node ") >= sample.boundary.contact_nodes.len());
         assert!(svg.contains("<g class=\"legend\">"));
+        // The legend lists the statuses of the dimension (2D slip+ and slip-, 3D slip), and any
+        // other status present.
+        let three_d = sample.mesh.dim() == 3;
         for status in STATUSES {
-            assert!(svg.contains(&format!(">{} (", status.name())), "{status:?}");
+            let listed = sample.status.contains(&status)
+                || match status {
+                    NodeStatus::SlipPlus | NodeStatus::SlipMinus => !three_d,
+                    NodeStatus::Slip => three_d,
+                    _ => true,
+                };
+            assert_eq!(
+                svg.contains(&format!(">{} (", status.name())),
+                listed,
+                "{status:?}"
+            );
         }
         assert!(svg.contains("reaction on the body"));
         assert!(svg.contains("von Mises stress"));

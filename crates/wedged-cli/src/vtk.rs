@@ -17,13 +17,17 @@
 //!     | -1   | not a contact node                       |
 //!     | 0    | separated (`u_n > 0`, `r = 0`)           |
 //!     | 1    | stick (`|r_t| < mu r_n`)                 |
-//!     | 2    | slip+ (`r_t = +mu r_n`)                  |
-//!     | 3    | slip- (`r_t = -mu r_n`)                  |
+//!     | 2    | slip+ (2D, `r_t = +mu r_n`)              |
+//!     | 3    | slip- (2D, `r_t = -mu r_n`)              |
 //!     | 4    | grazing (`u_n = 0`, `r = 0`)             |
+//!     | 5    | slip (3D, `||r_t|| = mu r_n > 0`)        |
+//!
+//!     (codes 0 to 4 are those of the 2D files; 5 was added for 3D sign patterns),
 //!
 //!   - `normal` (3 components: the unit inward normal of the body at contact nodes, zero
 //!     elsewhere; stored as a generic array so that ParaView does not use it for shading),
-//!   - `ray_<k>_displacement` (3 components) for each extreme ray `k` of the cone;
+//!   - `ray_<k>_displacement` (3 components) for each extreme ray `k` of the cone (a cone of a
+//!     ray method; a pattern's file shows its witness and has none);
 //! - cell data: `von_mises` (the active scalar) and `stress` (6 components, Voigt order
 //!   `xx, yy, zz, yz, xz, xy`, named so in the file: ParaView lists `stress_xx` ...), both at
 //!   the element centroid;
@@ -52,9 +56,11 @@ pub struct View<'a> {
     pub boundary: &'a Boundary,
     /// Status of each contact node, in the order of `boundary.contact_nodes`.
     pub status: &'a [NodeStatus],
-    /// The representative state of the wedged cone (normalised: sum of normal reactions = 1).
+    /// The representative state of the piece: a cone's centroid or a pattern's witness
+    /// (normalised: sum of normal reactions = 1).
     pub state: &'a Configuration,
-    /// The cone's extreme rays: (ray number, state), each normalised the same way.
+    /// The cone's extreme rays: (ray number, state), each normalised the same way; empty for a
+    /// pattern.
     pub rays: &'a [(usize, &'a Configuration)],
     /// One line describing the configuration, e.g. `cone 2 of 3, mu = 0.8: 2 rays, ...`.
     pub title: String,
@@ -68,6 +74,7 @@ pub fn status_code(status: NodeStatus) -> i32 {
         NodeStatus::SlipPlus => 2,
         NodeStatus::SlipMinus => 3,
         NodeStatus::Grazing => 4,
+        NodeStatus::Slip => 5,
     }
 }
 
@@ -567,12 +574,26 @@ pub(crate) mod tests {
             &boundary,
             &[
                 NodeStatus::Separated,
-                NodeStatus::SlipPlus,
+                NodeStatus::Slip,
                 NodeStatus::Grazing,
                 NodeStatus::Stick,
             ],
             &[CellType::Hexahedron, CellType::Tetra],
         );
+    }
+
+    #[test]
+    fn vtk_status_codes_are_distinct_and_documented() {
+        let all = [
+            NodeStatus::Separated,
+            NodeStatus::Stick,
+            NodeStatus::SlipPlus,
+            NodeStatus::SlipMinus,
+            NodeStatus::Grazing,
+            NodeStatus::Slip,
+        ];
+        let codes: Vec<i32> = all.iter().map(|&s| status_code(s)).collect();
+        assert_eq!(codes, [0, 1, 2, 3, 4, 5]);
     }
 
     #[test]

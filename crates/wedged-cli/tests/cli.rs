@@ -98,7 +98,19 @@ fn floats(v: &Value) -> Vec<f64> {
         .collect()
 }
 
-/// Checks the fixed keys, and `K u = r` for every ray to 1e-9 relative.
+/// `K u - r` relative to the terms, and `sum r_n`, of a solution `(u, r)` of a `dim`-D problem.
+fn residual_and_normal_sum(k: &DMatrix<f64>, dim: usize, u: &[f64], r: &[f64]) -> (f64, f64) {
+    let n = k.nrows();
+    let u = DMatrix::from_column_slice(n, 1, u);
+    let r = DMatrix::from_column_slice(n, 1, r);
+    let residual = (k * &u - &r).amax();
+    let scale = k.amax() * u.amax() + r.amax();
+    let r_n_sum: f64 = (0..n / dim).map(|i| r[dim * i]).sum();
+    (residual / scale, r_n_sum)
+}
+
+/// Checks the fixed keys, `K u = r` for every ray to 1e-9 relative and for every pattern's
+/// witness to 1e-8 relative, and `sum r_n = 1`.
 fn check_report(report: &Value, k: &DMatrix<f64>) {
     let keys: Vec<&str> = report
         .as_object()
@@ -107,51 +119,162 @@ fn check_report(report: &Value, k: &DMatrix<f64>) {
         .map(String::as_str)
         .collect();
     for key in [
-        "dim", "mu", "nodes", "method", "outcome", "complete", "stopped", "rays", "cones", "info",
+        "dim",
+        "mu",
+        "nodes",
+        "method",
+        "outcome",
+        "complete",
+        "stopped",
+        "rays",
+        "cones",
+        "patterns",
+        "undecided",
+        "info",
         "version",
     ] {
         assert!(keys.contains(&key), "missing {key} in {keys:?}");
     }
     // `model` is there for a meshed body only.
-    let expected = 11 + usize::from(keys.contains(&"model"));
+    let expected = 13 + usize::from(keys.contains(&"model"));
     assert_eq!(keys.len(), expected, "{keys:?}");
     let info = report["info"].as_object().unwrap();
-    for key in [
-        "rays_after_node",
-        "node_order",
-        "pairs_tested",
-        "adjacency_tests",
-        "seconds",
-    ] {
-        assert!(info.contains_key(key), "info lacks {key}");
+    let ray_method =
+        ["pruned-dd", "full-dd", "faces"].contains(&report["method"].as_str().unwrap());
+    let info_keys: &[&str] = if ray_method {
+        &[
+            "rays_after_node",
+            "node_order",
+            "pairs_tested",
+            "adjacency_tests",
+            "seconds",
+        ]
+    } else {
+        &[
+            "method",
+            "pyramid_faces",
+            "nodes_visited",
+            "nodes_inherited",
+            "pruned_infeasible",
+            "pruned_unpressed",
+            "leaves",
+            "candidates",
+            "spurious",
+            "pyramid_rays",
+            "socps",
+            "retries",
+            "uncertain",
+            "near_degenerate",
+            "realised",
+            "seconds",
+        ]
+    };
+    for key in info_keys {
+        assert!(info.contains_key(*key), "info lacks {key}");
+    }
+    if !ray_method {
+        assert_eq!(info.len(), info_keys.len(), "{info:?}");
+        assert_eq!(report["info"]["method"], report["method"]);
     }
     let n = k.nrows();
-    assert_eq!(report["nodes"].as_u64().unwrap() as usize * 2, n);
+    let dim = report["dim"].as_u64().unwrap() as usize;
+    let m = report["nodes"].as_u64().unwrap() as usize;
+    assert_eq!(m * dim, n);
     let rays = report["rays"].as_array().unwrap();
-    assert_eq!(
-        report["outcome"],
-        if rays.is_empty() {
-            "not-wedged"
-        } else {
-            "wedged"
-        }
-    );
+    let patterns = report["patterns"].as_array().unwrap();
+    if report["complete"] == true {
+        assert_eq!(
+            report["outcome"],
+            if patterns.is_empty() {
+                "not-wedged"
+            } else {
+                "wedged"
+            }
+        );
+        assert!(report["undecided"].as_array().unwrap().is_empty());
+    }
     for ray in rays {
-        let u = DMatrix::from_column_slice(n, 1, &floats(&ray["u"]));
-        let r = DMatrix::from_column_slice(n, 1, &floats(&ray["r"]));
-        let residual = (k * &u - &r).amax();
-        let scale = k.amax() * u.amax() + r.amax();
-        assert!(residual <= 1e-9 * scale, "K u - r = {residual:e} for {ray}");
-        let r_n_sum: f64 = (0..n / 2).map(|i| r[2 * i]).sum();
+        let (residual, r_n_sum) =
+            residual_and_normal_sum(k, dim, &floats(&ray["u"]), &floats(&ray["r"]));
+        assert!(residual <= 1e-9, "K u - r = {residual:e} for {ray}");
         assert!((r_n_sum - 1.0).abs() < 1e-9, "sum r_n = {r_n_sum}");
-        assert_eq!(ray["status"].as_array().unwrap().len(), n / 2);
+        assert_eq!(ray["status"].as_array().unwrap().len(), m);
     }
     for cone in report["cones"].as_array().unwrap() {
         for index in cone["rays"].as_array().unwrap() {
             assert!((index.as_u64().unwrap() as usize) < rays.len());
         }
-        assert_eq!(cone["status"].as_array().unwrap().len(), n / 2);
+        assert_eq!(cone["status"].as_array().unwrap().len(), m);
     }
+    if ray_method {
+        // One pattern per cone, in the same order; the margin is null.
+        let cones = report["cones"].as_array().unwrap();
+        assert_eq!(patterns.len(), cones.len());
+        for (p, c) in patterns.iter().zip(cones) {
+            assert_eq!(p["pattern"], c["status"]);
+            assert_eq!(p["margin"], Value::Null);
+        }
+    } else {
+        assert!(rays.is_empty() && report["cones"].as_array().unwrap().is_empty());
+    }
+    for p in patterns {
+        let keys: Vec<&str> = p.as_object().unwrap().keys().map(String::as_str).collect();
+        // (serde_json's maps are sorted by key)
+        assert_eq!(keys, ["margin", "pattern", "r", "status", "u"]);
+        let (residual, r_n_sum) =
+            residual_and_normal_sum(k, dim, &floats(&p["u"]), &floats(&p["r"]));
+        assert!(residual <= 1e-8, "K u - r = {residual:e} for {p}");
+        assert!((r_n_sum - 1.0).abs() < 1e-8, "sum r_n = {r_n_sum}");
+        let pattern = p["pattern"].as_array().unwrap();
+        let status = p["status"].as_array().unwrap();
+        assert_eq!((pattern.len(), status.len()), (m, m));
+        // The status at the witness agrees with the pattern.
+        for (q, s) in pattern.iter().zip(status) {
+            let (q, s) = (q.as_str().unwrap(), s.as_str().unwrap());
+            let expected: &[&str] = match q {
+                "contact" => &["stick", "slip", "slip+", "slip-"],
+                "separated" => &["separated"],
+                "grazing" => &["grazing"],
+                other => panic!("pattern {other}"),
+            };
+            assert!(expected.contains(&s), "{q} with {s}");
+        }
+        if !ray_method {
+            assert!(p["margin"].as_f64().unwrap() > 0.0, "{p}");
+        }
+    }
+}
+
+/// The (pattern, status) pairs of a report, sorted.
+fn pattern_set(report: &Value) -> Vec<(Value, Value)> {
+    let mut set: Vec<(Value, Value)> = report["patterns"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| (p["pattern"].clone(), p["status"].clone()))
+        .collect();
+    set.sort_by_key(|(p, s)| format!("{p}{s}"));
+    set
+}
+
+/// A seeded random 3D problem with 4 nodes, written as `rows = [...]` into a temporary
+/// directory; returns its stiffness and the file (kept alive by the directory).
+fn random_3d(mu: f64, seed: u64) -> (DMatrix<f64>, tempfile::TempDir, String) {
+    let problem = wedged::examples::random_spd_problem_dim(3, 4, mu, seed);
+    let k = problem.stiffness().clone();
+    let rows: Vec<String> = (0..k.nrows())
+        .map(|i| {
+            let row: Vec<String> = (0..k.ncols()).map(|j| format!("{:e}", k[(i, j)])).collect();
+            format!("[{}]", row.join(", "))
+        })
+        .collect();
+    let toml = format!(
+        "dim = 3\nmu = {mu}\n[stiffness]\nrows = [\n  {}\n]\n",
+        rows.join(",\n  ")
+    );
+    let dir = dir_with(&[("p3.toml", &toml)]);
+    let path = path_in(&dir, "p3.toml");
+    (k, dir, path)
 }
 
 /// The stiffness of the `coupled_*` fixtures, read back from the array file.
@@ -385,7 +508,18 @@ fn help_documents_exit_codes() {
             "{text}"
         );
     }
-    assert!(stdout(&wedged(&["enumerate", "--help"])).contains("matrix_market"));
+    let help = stdout(&wedged(&["enumerate", "--help"]));
+    assert!(help.contains("matrix_market"), "{help}");
+    assert!(!help.contains("only 2 can be enumerated"), "{help}");
+    for needle in [
+        "bnb",
+        "pyramid",
+        "pattern-faces",
+        "--pyramid-faces",
+        "could not decide",
+    ] {
+        assert!(help.contains(needle), "{needle:?} not in {help}");
+    }
 }
 
 // ---- bad input: exit code 2 and one line naming the problem -----------------------------------
@@ -518,11 +652,180 @@ fn nan_entry_in_matrix_market() {
     );
 }
 
+// ---- 3D problems and the pattern methods ------------------------------------------------------
+
 #[test]
-fn three_dimensional_problems_are_not_enumerated_yet() {
-    let toml = "dim = 3\nmu = 1\n[stiffness]\nrows = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n";
-    let (out, path) = enumerate_text(toml, &[]);
-    assert_bad_input(&out, &[&path, "dim = 3", "not implemented"]);
+fn a_3d_problem_gives_the_same_patterns_by_bnb_and_pyramid() {
+    // Seed 1 at mu = 1.5: six maximal patterns (none at mu = 0.9).
+    let (k, _dir, path) = random_3d(1.5, 1);
+    let run = |extra: &[&str]| {
+        let mut args = vec!["enumerate", path.as_str(), "--json", "-"];
+        args.extend_from_slice(extra);
+        let report = json_stdout(&wedged(&args));
+        check_report(&report, &k);
+        assert_eq!(report["dim"], 3);
+        assert_eq!(report["complete"], true);
+        report
+    };
+    // bnb is the default in 3D.
+    let default = run(&[]);
+    assert_eq!(default["method"], "bnb");
+    let bnb = run(&["--method", "bnb"]);
+    let pyramid = run(&["--method", "pyramid"]);
+    let faces = run(&["--method", "pattern-faces"]);
+    assert_eq!(pyramid["method"], "pyramid");
+    assert_eq!(pyramid["info"]["pyramid_faces"], 8);
+    assert!(pyramid["info"]["pyramid_rays"].as_u64().unwrap() > 0);
+    assert_eq!(bnb["info"]["pyramid_faces"], Value::Null);
+    assert!(bnb["info"]["nodes_visited"].as_u64().unwrap() > 0);
+    let set = pattern_set(&bnb);
+    assert_eq!(bnb["outcome"], "wedged");
+    assert_eq!(set.len(), 6, "{set:?}");
+    assert_eq!(pattern_set(&default), set);
+    assert_eq!(pattern_set(&pyramid), set);
+    assert_eq!(pattern_set(&faces), set);
+    // Another number of faces gives the same answer.
+    let pyramid16 = run(&["--method", "pyramid", "--pyramid-faces", "16"]);
+    assert_eq!(pyramid16["info"]["pyramid_faces"], 16);
+    assert_eq!(pattern_set(&pyramid16), set);
+
+    // Below its critical mu it does not wedge.
+    let below = run(&["--mu", "0.9"]);
+    assert_eq!(below["outcome"], "not-wedged");
+    assert_eq!(below["patterns"], serde_json::json!([]));
+}
+
+#[test]
+fn the_summary_of_a_pattern_run_explains_itself() {
+    let (_, _dir, path) = random_3d(1.5, 1);
+    let out = wedged(&["enumerate", &path]);
+    assert_success(&out);
+    let text = stdout(&out);
+    for needle in [
+        "dim 3, 4 nodes, mu = 1.5, method bnb",
+        "6 maximal sign patterns",
+        "status at the witness of nodes 1-4",
+        "o separated, s stick, ~ slip, g grazing",
+        "branch and bound: ",
+        "pruned (infeasible)",
+        "pruned fraction ",
+        "SOCPs solved (",
+        "near-degenerate",
+    ] {
+        assert!(text.contains(needle), "{needle:?} not in\n{text}");
+    }
+    assert!(!text.contains("WARNING"), "{text}");
+    // One row per pattern: index, max u_n, margin, one character per node.
+    let rows = text
+        .lines()
+        .filter(|l| {
+            let w: Vec<&str> = l.split_whitespace().collect();
+            w.len() == 4 && w[0].parse::<usize>().is_ok() && w[3].len() == 4
+        })
+        .count();
+    assert_eq!(rows, 6, "{text}");
+
+    let out = wedged(&["enumerate", &path, "--method", "pyramid"]);
+    assert_success(&out);
+    let text = stdout(&out);
+    assert!(text.contains("method pyramid (8 faces)"), "{text}");
+    assert!(
+        text.contains("pyramid approximation (8 faces): ") && text.contains("spurious"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_ray_method_on_a_3d_problem_is_a_usage_error() {
+    let (_, _dir, path) = random_3d(1.5, 1);
+    for method in ["pruned-dd", "full-dd", "faces"] {
+        let out = wedged(&["enumerate", &path, "--method", method]);
+        assert_bad_input(&out, &[&path, "dim = 3", method, "--method bnb", "pyramid"]);
+    }
+}
+
+#[test]
+fn pyramid_faces_out_of_range_or_without_the_pyramid() {
+    let (_, _dir, path) = random_3d(1.5, 1);
+    for k in ["2", "100", "-3"] {
+        let out = wedged(&[
+            "enumerate",
+            &path,
+            "--method",
+            "pyramid",
+            "--pyramid-faces",
+            k,
+        ]);
+        assert_bad_input(&out, &["--pyramid-faces", "3 to 64", k]);
+    }
+    let out = wedged(&["enumerate", &path, "--pyramid-faces", "12"]);
+    assert_bad_input(&out, &["--pyramid-faces", "pyramid only", "bnb"]);
+}
+
+#[test]
+fn a_2d_problem_gives_the_same_patterns_by_rays_and_by_patterns() {
+    let k = coupled_k();
+    let rays = json_stdout(&wedged(&[
+        "enumerate",
+        &fixture("coupled_array.toml"),
+        "--json",
+        "-",
+    ]));
+    check_report(&rays, &k);
+    assert_eq!(rays["method"], "pruned-dd");
+    let set = pattern_set(&rays);
+    assert_eq!(set.len(), 4);
+    for method in ["bnb", "pyramid", "pattern-faces"] {
+        let report = json_stdout(&wedged(&[
+            "enumerate",
+            &fixture("coupled_array.toml"),
+            "--method",
+            method,
+            "--json",
+            "-",
+        ]));
+        check_report(&report, &k);
+        assert_eq!(report["method"], method);
+        assert_eq!(pattern_set(&report), set, "{method}");
+    }
+    // The summary of a 2D pattern run uses the 2D legend.
+    let out = wedged(&[
+        "enumerate",
+        &fixture("coupled_array.toml"),
+        "--method",
+        "bnb",
+    ]);
+    assert_success(&out);
+    assert!(
+        stdout(&out).contains("o separated, s stick, + slip+, - slip-, g grazing"),
+        "{}",
+        stdout(&out)
+    );
+}
+
+#[test]
+fn a_3d_run_stopped_by_the_time_limit_is_marked_incomplete() {
+    let (_, dir, path) = random_3d(1.5, 1);
+    let json = path_in(&dir, "out.json");
+    let out = wedged(&["enumerate", &path, "--time-limit", "0", "--json", &json]);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.starts_with("incomplete: ") && err.contains("time limit") && err.contains(&path),
+        "{err}"
+    );
+    assert!(
+        !err.contains("nodes;"),
+        "no node count for a pattern run: {err}"
+    );
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(stdout(&out).contains("INCOMPLETE"), "{}", stdout(&out));
+    let report: Value = serde_json::from_str(&fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["complete"], false);
+    assert_eq!(report["outcome"], "incomplete");
+    assert!(report["stopped"].as_str().unwrap().contains("time limit"));
+    assert_eq!(report["patterns"], serde_json::json!([]));
+    assert_eq!(report["undecided"], serde_json::json!([]));
 }
 
 #[test]

@@ -436,6 +436,123 @@ fn the_example_files_run() {
     assert_success(&out);
 }
 
+/// The names of a VTU file's point and cell arrays, parsed back with `vtkio`, and its number of
+/// points.
+fn vtu_arrays(path: &Path) -> (Vec<String>, Vec<String>, usize) {
+    use vtkio::model::{DataSet, Vtk};
+    let bytes = fs::read(path).unwrap();
+    let vtk = Vtk::parse_xml(bytes.as_slice()).expect("the VTU parses as VTK XML");
+    let DataSet::UnstructuredGrid { mut pieces, .. } = vtk.data else {
+        panic!("not an unstructured grid");
+    };
+    assert_eq!(pieces.len(), 1);
+    let piece = pieces
+        .remove(0)
+        .into_loaded_piece_data(None)
+        .expect("inline piece");
+    let names = |a: &[vtkio::model::Attribute]| -> Vec<String> {
+        a.iter().map(|x| x.name().to_string()).collect()
+    };
+    (
+        names(&piece.data.point),
+        names(&piece.data.cell),
+        piece.num_points(),
+    )
+}
+
+/// `examples/plug3d.toml` end to end: a 3D body enumerated by sign patterns, one VTU and one SVG
+/// per maximal pattern.
+#[test]
+fn the_3d_plug_example_writes_a_file_per_pattern() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("out");
+    // Stale files of earlier runs, cones and patterns, are removed; others are left alone.
+    fs::create_dir_all(&out_dir).unwrap();
+    for stale in [
+        "cone-0.vtu",
+        "cone-3.svg",
+        "pattern-99.vtu",
+        "pattern-99.svg",
+    ] {
+        fs::write(out_dir.join(stale), "old").unwrap();
+    }
+    fs::write(out_dir.join("pattern-notes.txt"), "mine").unwrap();
+    let json = dir.path().join("r.json");
+    let out = wedged(&[
+        "enumerate",
+        root.join("plug3d.toml").to_str().unwrap(),
+        "--json",
+        json.to_str().unwrap(),
+        "--vtk",
+        out_dir.to_str().unwrap(),
+        "--svg",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert_success(&out);
+    let summary = text(&out.stdout);
+    assert!(summary.contains("3D mesh"), "{summary}");
+    assert!(summary.contains("dim 3, 6 nodes"), "{summary}");
+    assert!(summary.contains("method bnb"), "{summary}");
+    assert!(summary.contains("maximal sign patterns"), "{summary}");
+    let report = json_file(&json);
+    assert_eq!(report["dim"], 3);
+    assert_eq!(report["complete"], true);
+    assert_eq!(report["outcome"], "wedged");
+    assert_eq!(report["model"]["contact"].as_array().unwrap().len(), 6);
+    assert!(report["model"]["contact"][0]["t2"].is_array());
+    let patterns = report["patterns"].as_array().unwrap();
+    assert!(!patterns.is_empty(), "the plug wedges at the example's mu");
+    assert_eq!(count(&out_dir, "vtu"), patterns.len());
+    assert_eq!(count(&out_dir, "svg"), patterns.len());
+    for stale in [
+        "cone-0.vtu",
+        "cone-3.svg",
+        "pattern-99.vtu",
+        "pattern-99.svg",
+    ] {
+        assert!(!out_dir.join(stale).exists(), "{stale}");
+    }
+    assert!(out_dir.join("pattern-notes.txt").exists());
+    assert!(
+        summary.contains(&format!(
+            "{} .vtu files written to {} (pattern-N.vtu",
+            patterns.len(),
+            out_dir.display()
+        )),
+        "{summary}"
+    );
+    // Zero-padded names when there are ten patterns or more.
+    let first = if patterns.len() > 10 {
+        "pattern-00"
+    } else {
+        "pattern-0"
+    };
+    let vtu = out_dir.join(format!("{first}.vtu"));
+    let (point, cell, points) = vtu_arrays(&vtu);
+    assert_eq!(
+        points,
+        report["model"]["mesh_nodes"].as_u64().unwrap() as usize
+    );
+    for name in ["displacement", "force", "contact_status", "normal"] {
+        assert!(point.contains(&name.to_string()), "{name} not in {point:?}");
+    }
+    // A pattern's file shows its witness: no per-ray arrays.
+    assert!(!point.iter().any(|n| n.starts_with("ray_")), "{point:?}");
+    for name in ["von_mises", "stress"] {
+        assert!(cell.contains(&name.to_string()), "{name} not in {cell:?}");
+    }
+    let text_vtu = fs::read_to_string(&vtu).unwrap();
+    assert!(
+        text_vtu.contains("pattern #0 of"),
+        "the title names the pattern"
+    );
+    let svg = fs::read_to_string(out_dir.join(format!("{first}.svg"))).unwrap();
+    assert!(svg.starts_with("<?xml") || svg.starts_with("<svg"));
+    assert_eq!(svg.matches("<circle class=\"contact ").count(), 6);
+    assert!(svg.contains("pattern #0 of"));
+}
+
 #[test]
 fn a_bad_mu_of_a_meshed_body_is_named_as_such() {
     let (out, p) = enumerate_toml(&PLUG.replace("mu = 2.0", "mu = -1.0"), &[]);

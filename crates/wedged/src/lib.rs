@@ -36,6 +36,7 @@ pub mod enumerate;
 pub mod examples;
 pub mod fe;
 pub(crate) mod linalg;
+pub mod patterns;
 pub mod problem;
 pub(crate) mod socp;
 pub mod verify;
@@ -44,6 +45,10 @@ pub use enumerate::{
     enumerate, enumerate_with_control, enumerate_with_progress, Cone, ContactPattern,
     EnumerateError, Enumeration, Info, Limits, Method, NodeStatus, Outcome, Progress, Ray,
     Settings, Stop,
+};
+pub use patterns::{
+    enumerate_patterns, enumerate_patterns_with_control, Pattern, PatternInfo, PatternMethod,
+    PatternSettings, Patterns,
 };
 pub use problem::{Problem, ProblemError};
 

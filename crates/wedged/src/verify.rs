@@ -65,7 +65,8 @@ fn tight_rows(problem: &Problem, status: &[NodeStatus]) -> DMatrix<f64> {
                 rows.push(unit(ni, 1.0, ti, 0.0));
                 rows.push(unit(ti, 1.0, ni, 0.0));
             }
-            NodeStatus::Stick => rows.push(gap()),
+            // A 3D status has no place in a 2D ray; the check below refuses it.
+            NodeStatus::Stick | NodeStatus::Slip => rows.push(gap()),
             NodeStatus::SlipPlus => {
                 rows.push(gap());
                 rows.push(unit(ni, mu, ti, -1.0));
@@ -117,7 +118,7 @@ pub fn polish_and_verify(
             }
             NodeStatus::SlipPlus => polished[2 * i + 1] = mu * polished[2 * i],
             NodeStatus::SlipMinus => polished[2 * i + 1] = -mu * polished[2 * i],
-            NodeStatus::Stick => {}
+            NodeStatus::Stick | NodeStatus::Slip => {}
         }
     }
     let raw_scale = sum_n(r);
@@ -212,6 +213,8 @@ pub fn verify_ray(problem: &Problem, ray: &Ray, tol: f64) -> Result<(), VerifyEr
             NodeStatus::SlipMinus => {
                 gap_zero && pressed && strict(slack_plus) && tight(slack_minus)
             }
+            // The 3D status, which a 2D ray cannot have.
+            NodeStatus::Slip => false,
         };
         if !ok {
             return Err(fail(

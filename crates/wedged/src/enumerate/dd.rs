@@ -1,17 +1,18 @@
 //! Double description in `r`-space (`u = K^{-1} r`), for the seed's pruned method and the plain
-//! baseline.
+//! baseline, with a polyhedral friction law: in 2D the exact one, in 3D a circumscribed pyramid
+//! (the candidate generator of the 3D sign patterns, see `crate::patterns`).
 //!
-//! Step 1: the friction constraints alone give the product of `m` planar cones, whose `2m`
-//! extreme rays are `r = e_{n_i} +/- mu e_{t_i}`. Step 2: the constraints `u_n_i >= 0` are added one
-//! node at a time. For every ray `a` with `u_n_i > 0` and `b` with `u_n_i < 0` that are adjacent in
-//! the current cone, the point of `[a, b]` on `u_n_i = 0` becomes a new ray; then the rays with
-//! `u_n_i < 0` are dropped.
+//! Step 1: the friction constraints alone give the product of `m` polyhedral cones, whose extreme
+//! rays are known: in 2D `r = e_{n_i} +/- mu e_{t_i}`, in 3D the `k` edges of each node's
+//! pyramid. Step 2: the constraints `u_n_i >= 0` are added one node at a time. For every ray `a`
+//! with `u_n_i > 0` and `b` with `u_n_i < 0` that are adjacent in the current cone, the point of
+//! `[a, b]` on `u_n_i = 0` becomes a new ray; then the rays with `u_n_i < 0` are dropped.
 //!
 //! [`Variant::Pruned`] (MISSION section 4) also
 //! - skips a pair whose combination would break complementarity at a processed node (filter (a));
 //! - drops every ray that breaks complementarity at a processed node;
 //! - and therefore decides adjacency **algebraically** (filter (b)): the constraints tight at both
-//!   rays must have rank `2m - 2`. The combinatorial test (no other held ray is tight on every
+//!   rays must have rank `dm - 2`. The combinatorial test (no other held ray is tight on every
 //!   constraint common to `a` and `b`) is still sound as a filter that *rejects*, because every
 //!   held ray is an extreme ray of the current cone; after the deletions it can no longer accept.
 //!
@@ -40,18 +41,127 @@ pub(crate) enum Variant {
     Full,
 }
 
-/// Constraint numbering in the zero sets: node `i` owns bits `3i` (`mu r_n - r_t >= 0`, tight at
-/// slip+), `3i + 1` (`mu r_n + r_t >= 0`, tight at slip-) and `3i + 2` (`u_n_i >= 0`).
-const PER_NODE: usize = 3;
+/// A polyhedral friction law, the same at every node: facet `j` is `mu r_n - a_j . r_t >= 0` for
+/// a unit tangent direction `a_j`.
+///
+/// - 2D ([`Friction::planar`]): `a = +1, -1`, the exact law `|r_t| <= mu r_n`.
+/// - 3D ([`Friction::pyramid`]): `a_j = (cos 2 pi j / k, sin 2 pi j / k)`, `k >= 3`: the pyramid
+///   whose faces touch the round cone `||r_t|| <= mu r_n`, so it contains it (circumscribed).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Friction {
+    dim: usize,
+    mu: f64,
+    /// The `k` tangent directions, `dim - 1` components each.
+    dirs: Vec<Vec<f64>>,
+}
 
-fn facet_plus(i: usize) -> usize {
-    PER_NODE * i
-}
-fn facet_minus(i: usize) -> usize {
-    PER_NODE * i + 1
-}
-fn gap_bit(i: usize) -> usize {
-    PER_NODE * i + 2
+impl Friction {
+    /// The exact 2D law.
+    pub(crate) fn planar(mu: f64) -> Friction {
+        Friction {
+            dim: 2,
+            mu,
+            dirs: vec![vec![1.0], vec![-1.0]],
+        }
+    }
+
+    /// The circumscribed pyramid with `k >= 3` faces of the 3D cone.
+    pub(crate) fn pyramid(mu: f64, k: usize) -> Friction {
+        assert!((3..=64).contains(&k), "a pyramid has 3 to 64 faces");
+        let dirs = (0..k)
+            .map(|j| {
+                let t = 2.0 * std::f64::consts::PI * j as f64 / k as f64;
+                vec![t.cos(), t.sin()]
+            })
+            .collect();
+        Friction { dim: 3, mu, dirs }
+    }
+
+    fn k(&self) -> usize {
+        self.dirs.len()
+    }
+
+    /// Constraint bits per node in the zero sets: node `i` owns bits `(k + 1) i + f` for its facet
+    /// `f` and `(k + 1) i + k` for `u_n_i >= 0`.
+    fn per_node(&self) -> usize {
+        self.k() + 1
+    }
+
+    /// The extreme rays of one node's cone, as `(r_n, r_t...)` with `r_n = 1`, each with the
+    /// facets it is tight on: in 2D the two ends `(1, +/-mu)`, in 3D the pyramid's edges, between
+    /// faces `j` and `j + 1`.
+    fn edges(&self) -> Vec<(Vec<f64>, Vec<usize>)> {
+        let k = self.k();
+        if self.dim == 2 {
+            return (0..k)
+                .map(|j| (vec![1.0, self.mu * self.dirs[j][0]], vec![j]))
+                .collect();
+        }
+        let half = std::f64::consts::PI / k as f64;
+        (0..k)
+            .map(|j| {
+                let t = 2.0 * half * j as f64 + half;
+                let len = self.mu / half.cos();
+                (
+                    vec![1.0, len * t.cos(), len * t.sin()],
+                    vec![j, (j + 1) % k],
+                )
+            })
+            .collect()
+    }
+
+    /// A basis of the subspace of one node's `(r_n, r_t...)` where the facets in the bit mask
+    /// `tight` hold with equality, appended to `out` (columns of `dim` values, padded to 3).
+    fn basis(&self, tight: u64, out: &mut Vec<[f64; 3]>) {
+        let (d, k, mu) = (self.dim, self.k(), self.mu);
+        let first = tight.trailing_zeros() as usize;
+        match tight.count_ones() as usize {
+            0 => out.extend((0..d).map(|c| {
+                let mut e = [0.0; 3];
+                e[c] = 1.0;
+                e
+            })),
+            l if l == k => {}
+            1 => {
+                let a = &self.dirs[first];
+                // (1, mu a) lies on the facet; in 3D so does the tangent (0, a_perp).
+                if d == 2 {
+                    out.push([1.0, mu * a[0], 0.0]);
+                } else {
+                    out.push([1.0, mu * a[0], mu * a[1]]);
+                    out.push([0.0, -a[1], a[0]]);
+                }
+            }
+            2 if d == 3 => {
+                let last = 63 - tight.leading_zeros() as usize;
+                // Neighbouring faces meet on an edge; others only at the apex.
+                let edge = if last == first + 1 {
+                    Some(first)
+                } else if first == 0 && last == k - 1 {
+                    Some(k - 1)
+                } else {
+                    None
+                };
+                if let Some(j) = edge {
+                    let e = &self.edges()[j].0;
+                    out.push([e[0], e[1], e[2]]);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// The status of a node whose facets in the mask `tight` hold with equality and whose gap is
+    /// closed (`u_n = 0`), with `r != 0` (some facet slack). In 3D `Slip` means "on a face of
+    /// the pyramid": a candidate, decided exactly by the SOCP later.
+    fn pressed_status(&self, tight: u64) -> NodeStatus {
+        match (self.dim, tight) {
+            (_, 0) => NodeStatus::Stick,
+            (2, 1) => NodeStatus::SlipPlus,
+            (2, _) => NodeStatus::SlipMinus,
+            (_, _) => NodeStatus::Slip,
+        }
+    }
 }
 
 /// Rays held contiguously: reactions with stride `n = 2m`, zero sets with stride `words`, and two
@@ -115,15 +225,34 @@ fn set_bit(z: &mut [u64], b: usize) {
     z[b / 64] |= 1 << (b % 64);
 }
 
-/// Node `j` has `r_j = 0` in a ray with zero set `z` (both friction facets tight).
-fn r_zero(z: &[u64], j: usize) -> bool {
-    bit(z, facet_plus(j)) && bit(z, facet_minus(j))
+impl Friction {
+    /// The zero-set bit of facet `f` of node `i`.
+    fn facet(&self, i: usize, f: usize) -> usize {
+        self.per_node() * i + f
+    }
+
+    /// The zero-set bit of `u_n_i >= 0`.
+    fn gap_bit(&self, i: usize) -> usize {
+        self.per_node() * i + self.k()
+    }
+
+    /// The facets of node `j` tight in zero set `z`, as a bit mask.
+    fn tight(&self, z: &[u64], j: usize) -> u64 {
+        (0..self.k())
+            .filter(|&f| bit(z, self.facet(j, f)))
+            .fold(0, |acc, f| acc | 1 << f)
+    }
+
+    /// Node `j` has `r_j = 0` in a ray with zero set `z` (every friction facet tight).
+    fn r_zero(&self, z: &[u64], j: usize) -> bool {
+        (0..self.k()).all(|f| bit(z, self.facet(j, f)))
+    }
 }
 
 /// The `press` mask of a zero set: nodes with `r_j != 0`.
-fn press_mask(z: &[u64], m: usize, node_words: usize) -> Vec<u64> {
+fn press_mask(friction: &Friction, z: &[u64], m: usize, node_words: usize) -> Vec<u64> {
     let mut p = vec![0u64; node_words];
-    for j in (0..m).filter(|&j| !r_zero(z, j)) {
+    for j in (0..m).filter(|&j| !friction.r_zero(z, j)) {
         set_bit(&mut p, j);
     }
     p
@@ -154,7 +283,7 @@ struct Step<'a> {
     gap_rows: &'a [f64],
     node: usize,
     m: usize,
-    mu: f64,
+    friction: &'a Friction,
     tol: f64,
     variant: Variant,
 }
@@ -253,7 +382,7 @@ impl Step<'_> {
                 let adjacent = algebraic_adjacent(
                     common,
                     self.m,
-                    self.mu,
+                    self.friction,
                     self.processed,
                     self.gap_rows,
                     self.tol,
@@ -271,9 +400,9 @@ impl Step<'_> {
         let (va, vb) = (self.value[a], -self.value[b]);
         let (ra, rb) = (rays.r(a), rays.r(b));
         let mut r: Vec<f64> = ra.iter().zip(rb).map(|(x, y)| va * y + vb * x).collect();
-        normalise(&mut r);
+        normalise(&mut r, self.friction.dim);
         let mut z = common.to_vec();
-        set_bit(&mut z, gap_bit(self.node));
+        set_bit(&mut z, self.friction.gap_bit(self.node));
         // The new ray has u_n_i = 0; elsewhere it has a gap or a pressure where a or b has.
         let or = |x: &[u64], y: &[u64]| x.iter().zip(y).map(|(p, q)| p | q).collect::<Vec<u64>>();
         out.push(
@@ -285,9 +414,11 @@ impl Step<'_> {
     }
 }
 
-/// Runs the double description and returns the complementary extreme rays.
+/// Runs the double description with the friction law `friction` (of the problem's dimension and
+/// `mu`) and returns the complementary extreme rays.
 pub(crate) fn run(
     problem: &Problem,
+    friction: &Friction,
     settings: &Settings,
     info: &mut Info,
     variant: Variant,
@@ -295,29 +426,36 @@ pub(crate) fn run(
     control: &Control,
 ) -> Vec<RawRay> {
     let m = problem.nodes();
-    let n = 2 * m;
-    let mu = problem.mu();
+    let d = problem.dim();
+    assert_eq!(
+        d, friction.dim,
+        "the friction law's dimension is the problem's"
+    );
+    let n = d * m;
     let g = problem.compliance();
     let tol = settings.zero_tol;
-    let words = (PER_NODE * m).div_ceil(64);
+    let words = (friction.per_node() * m).div_ceil(64);
     let node_words = m.div_ceil(64);
     let mut rays = Rays::new(n, words, node_words);
     let ray_bytes = 8 * (n + words + 2 * node_words) as u64;
     control.set_ray_bytes(ray_bytes);
 
-    // Step 1: the 2m extreme rays of the friction cones.
+    // Step 1: the extreme rays of the friction cones, `k` per node.
+    let edges = friction.edges();
     for i in 0..m {
-        for (sign, tight) in [(1.0, facet_plus(i)), (-1.0, facet_minus(i))] {
+        for (edge, tight) in &edges {
             let mut r = vec![0.0; n];
-            r[2 * i] = 1.0;
-            r[2 * i + 1] = sign * mu;
+            r[d * i..d * i + d].copy_from_slice(edge);
             let mut z = vec![0u64; words];
             for j in (0..m).filter(|&j| j != i) {
-                set_bit(&mut z, facet_plus(j));
-                set_bit(&mut z, facet_minus(j));
+                for f in 0..friction.k() {
+                    set_bit(&mut z, friction.facet(j, f));
+                }
             }
-            set_bit(&mut z, tight);
-            let press = press_mask(&z, m, node_words);
+            for &f in tight {
+                set_bit(&mut z, friction.facet(i, f));
+            }
+            let press = press_mask(friction, &z, m, node_words);
             rays.push(&r, &z, &vec![0u64; node_words], &press);
         }
     }
@@ -326,7 +464,7 @@ pub(crate) fn run(
 
     // Dense copy of the compliance rows `G[n_j, :]`, for cache-friendly dot products.
     let gap_rows: Vec<f64> = (0..m)
-        .flat_map(|j| g.row(2 * j).iter().copied().collect::<Vec<_>>())
+        .flat_map(|j| g.row(d * j).iter().copied().collect::<Vec<_>>())
         .collect();
     let mut processed: Vec<usize> = Vec::with_capacity(m);
 
@@ -354,7 +492,7 @@ pub(crate) fn run(
             gap_rows: &gap_rows,
             node: i,
             m,
-            mu,
+            friction,
             tol,
             variant,
         };
@@ -385,7 +523,7 @@ pub(crate) fn run(
         // (now tight on the new constraint), and the new rays.
         let mut kept = Rays::new(n, words, node_words);
         for &a in &plus {
-            if variant == Variant::Full || r_zero(rays.z(a), i) {
+            if variant == Variant::Full || friction.r_zero(rays.z(a), i) {
                 let mut gap = rays.gap(a).to_vec();
                 set_bit(&mut gap, i);
                 kept.push(rays.r(a), rays.z(a), &gap, rays.press(a));
@@ -393,7 +531,7 @@ pub(crate) fn run(
         }
         for &a in &zero {
             let mut z = rays.z(a).to_vec();
-            set_bit(&mut z, gap_bit(i));
+            set_bit(&mut z, friction.gap_bit(i));
             kept.push(rays.r(a), &z, rays.gap(a), rays.press(a));
         }
         let (mut superset_rejects, mut rank_tests, mut rank_rejects) = (0, 0, 0);
@@ -436,7 +574,8 @@ pub(crate) fn run(
     (0..rays.len())
         .filter_map(|a| {
             let z = rays.z(a);
-            let status: Option<Vec<NodeStatus>> = (0..m).map(|j| status_of(z, j)).collect();
+            let status: Option<Vec<NodeStatus>> =
+                (0..m).map(|j| status_of(friction, z, j)).collect();
             status.map(|status| RawRay {
                 r: rays.r(a).to_vec(),
                 status,
@@ -475,19 +614,14 @@ fn classify(rays: &Rays, row: &[f64], tol: f64) -> Signs {
 
 /// The status of node `j` in a ray with zero set `z` (all constraints processed), or `None` when
 /// the ray breaks complementarity there.
-fn status_of(z: &[u64], j: usize) -> Option<NodeStatus> {
-    let (p, q, gap_closed) = (
-        bit(z, facet_plus(j)),
-        bit(z, facet_minus(j)),
-        bit(z, gap_bit(j)),
-    );
-    Some(match (p, q, gap_closed) {
-        (true, true, false) => NodeStatus::Separated,
-        (true, true, true) => NodeStatus::Grazing,
-        (_, _, false) => return None,
-        (true, false, true) => NodeStatus::SlipPlus,
-        (false, true, true) => NodeStatus::SlipMinus,
-        (false, false, true) => NodeStatus::Stick,
+fn status_of(friction: &Friction, z: &[u64], j: usize) -> Option<NodeStatus> {
+    let tight = friction.tight(z, j);
+    let r_zero = tight.count_ones() as usize == friction.k();
+    Some(match (r_zero, bit(z, friction.gap_bit(j))) {
+        (true, false) => NodeStatus::Separated,
+        (true, true) => NodeStatus::Grazing,
+        (false, false) => return None,
+        (false, true) => friction.pressed_status(tight),
     })
 }
 
@@ -499,8 +633,8 @@ fn clash(gap_a: &[u64], press_a: &[u64], gap_b: &[u64], press_b: &[u64]) -> bool
     crossed(gap_a, press_b) || crossed(gap_b, press_a)
 }
 
-fn normalise(r: &mut [f64]) {
-    let s: f64 = r.iter().step_by(2).sum();
+fn normalise(r: &mut [f64], dim: usize) {
+    let s: f64 = r.iter().step_by(dim).sum();
     r.iter_mut().for_each(|x| *x /= s);
 }
 
@@ -515,40 +649,36 @@ fn combinatorial_adjacent(rays: &Rays, a: usize, b: usize, common: &[u64]) -> bo
 }
 
 /// Filter (b), algebraically: the constraints in `common` (friction facets of every node, `u_n`
-/// rows of the processed nodes) have rank `2m - 2`.
+/// rows of the processed nodes) have rank `dm - 2`.
 ///
-/// The tight facets of node `k` leave a subspace of its `(r_n, r_t)` plane: the whole plane (none
-/// tight), the line through `(1, +mu)` or `(1, -mu)` (one), or `{0}` (both). With `B` a basis of
-/// their product (`f` columns), the rank is `(2m - f) + rank(M)`, where `M` holds the tight
+/// The tight facets of node `k` leave a subspace of its `(r_n, r_t)` space ([`Friction::basis`]):
+/// all of it (none tight), a facet's plane or line, an edge's line, or `{0}`. With `B` a basis
+/// of their product (`f` columns), the rank is `(dm - f) + rank(M)`, where `M` holds the tight
 /// `u_n_j` rows `G[n_j, :] B`. So the test is `rank(M) = f - 2`; `M` is small.
 fn algebraic_adjacent(
     common: &[u64],
     m: usize,
-    mu: f64,
+    friction: &Friction,
     processed: &[usize],
     gap_rows: &[f64],
     tol: f64,
     scratch: &mut Vec<f64>,
 ) -> bool {
-    let n = 2 * m;
-    // Columns of B as (node, (c_n, c_t)) pairs.
-    let mut columns: Vec<(usize, f64, f64)> = Vec::with_capacity(n);
+    let d = friction.dim;
+    let n = d * m;
+    // Columns of B as (node, local vector).
+    let mut columns: Vec<(usize, [f64; 3])> = Vec::with_capacity(n);
+    let mut local = Vec::with_capacity(d);
     for k in 0..m {
-        match (bit(common, facet_plus(k)), bit(common, facet_minus(k))) {
-            (false, false) => {
-                columns.push((k, 1.0, 0.0));
-                columns.push((k, 0.0, 1.0));
-            }
-            (true, false) => columns.push((k, 1.0, mu)),
-            (false, true) => columns.push((k, 1.0, -mu)),
-            (true, true) => {}
-        }
+        local.clear();
+        friction.basis(friction.tight(common, k), &mut local);
+        columns.extend(local.drain(..).map(|v| (k, v)));
     }
     let f = columns.len();
     let tight: Vec<usize> = processed
         .iter()
         .copied()
-        .filter(|&j| bit(common, gap_bit(j)))
+        .filter(|&j| bit(common, friction.gap_bit(j)))
         .collect();
     if tight.len() + 2 < f {
         return false;
@@ -556,11 +686,12 @@ fn algebraic_adjacent(
     scratch.clear();
     for &j in &tight {
         let row = &gap_rows[j * n..(j + 1) * n];
-        scratch.extend(
-            columns
-                .iter()
-                .map(|&(k, cn, ct)| row[2 * k] * cn + row[2 * k + 1] * ct),
-        );
+        scratch.extend(columns.iter().map(|(k, v)| {
+            v.iter()
+                .zip(&row[d * k..d * k + d])
+                .map(|(a, b)| a * b)
+                .sum::<f64>()
+        }));
     }
     rank(scratch, tight.len(), f, tol) + 2 == f
 }

@@ -400,7 +400,7 @@ mod tests {
             match s {
                 NodeStatus::Separated => rows.extend([unit(1.0, 0.0), unit(0.0, 1.0)]),
                 NodeStatus::Grazing => rows.extend([unit(1.0, 0.0), unit(0.0, 1.0), gap]),
-                NodeStatus::Stick => rows.push(gap),
+                NodeStatus::Stick | NodeStatus::Slip => rows.push(gap),
                 NodeStatus::SlipPlus => rows.extend([gap, unit(mu, -1.0)]),
                 NodeStatus::SlipMinus => rows.extend([gap, unit(mu, 1.0)]),
             }

@@ -10,7 +10,7 @@
 //!   then a complementarity filter.
 //! - [`Method::Faces`] (`faces.rs`): brute force over the `2^m` contact sets.
 
-mod dd;
+pub(crate) mod dd;
 mod faces;
 
 use std::fmt;
@@ -105,6 +105,9 @@ pub enum Stop {
     MaxMemory(u64),
     /// The caller's cancellation flag was set (Ctrl-C).
     Interrupted,
+    /// The conic solver could not decide some programs, even with tighter settings (3D
+    /// patterns): the patterns below them may be missing.
+    Undecided,
 }
 
 impl fmt::Display for Stop {
@@ -118,6 +121,7 @@ impl fmt::Display for Stop {
                 bytes_text(*b)
             ),
             Stop::Interrupted => write!(f, "the run was interrupted"),
+            Stop::Undecided => write!(f, "the solver could not decide some contact sets"),
         }
     }
 }
@@ -195,7 +199,7 @@ impl<'a> Control<'a> {
         }
     }
 
-    fn stopped(&self) -> Option<Stop> {
+    pub(crate) fn stopped(&self) -> Option<Stop> {
         self.stop.get().copied()
     }
 }
@@ -211,6 +215,8 @@ pub enum NodeStatus {
     SlipPlus,
     /// `u_n = 0`, `r_t = -mu r_n < 0`.
     SlipMinus,
+    /// 3D: `u_n = 0`, `||r_t|| = mu r_n > 0` (on the boundary of the round friction cone).
+    Slip,
     /// `u_n = 0`, `r = 0`.
     Grazing,
 }
@@ -223,6 +229,7 @@ impl NodeStatus {
             NodeStatus::Stick => "stick",
             NodeStatus::SlipPlus => "slip+",
             NodeStatus::SlipMinus => "slip-",
+            NodeStatus::Slip => "slip",
             NodeStatus::Grazing => "grazing",
         }
     }
@@ -236,7 +243,7 @@ impl NodeStatus {
     pub fn pressed(self) -> bool {
         matches!(
             self,
-            NodeStatus::Stick | NodeStatus::SlipPlus | NodeStatus::SlipMinus
+            NodeStatus::Stick | NodeStatus::SlipPlus | NodeStatus::SlipMinus | NodeStatus::Slip
         )
     }
 }
@@ -378,8 +385,7 @@ impl Enumeration {
                 match pressing.first() {
                     None => NodeStatus::Grazing,
                     Some(&first)
-                        if (first == NodeStatus::SlipPlus || first == NodeStatus::SlipMinus)
-                            && pressing.iter().all(|&s| s == first) =>
+                        if first != NodeStatus::Stick && pressing.iter().all(|&s| s == first) =>
                     {
                         first
                     }
@@ -472,6 +478,7 @@ pub fn enumerate_with_control(
         match settings.method {
             Method::PrunedDd => dd::run(
                 problem,
+                &dd::Friction::planar(problem.mu()),
                 settings,
                 &mut info,
                 dd::Variant::Pruned,
@@ -480,6 +487,7 @@ pub fn enumerate_with_control(
             ),
             Method::FullDd => dd::run(
                 problem,
+                &dd::Friction::planar(problem.mu()),
                 settings,
                 &mut info,
                 dd::Variant::Full,
@@ -525,23 +533,53 @@ pub fn cross_complementary(a: &[NodeStatus], b: &[NodeStatus]) -> bool {
 
 /// The maximal cross-complementary sets of `rays`, each with its pattern, in canonical order.
 fn cones_of(rays: &[Ray]) -> Vec<Cone> {
-    let p = rays.len();
+    let statuses: Vec<&[NodeStatus]> = rays.iter().map(|r| r.status.as_slice()).collect();
+    cones_of_statuses(&statuses)
+}
+
+/// The patterns of the maximal cross-complementary sets of rays with these statuses (the
+/// pyramid method's candidates).
+///
+/// Cross-complementarity depends only on which entries are positive, so rays with the same
+/// positive entries are merged first (each stands for all, being compatible with itself): the
+/// graph then has one vertex per distinct sign pattern, not one per ray (a piece of a fine
+/// pyramid has thousands of rays).
+pub(crate) fn cones_of_status(statuses: &[Vec<NodeStatus>]) -> Vec<Vec<ContactPattern>> {
+    let mut signs: Vec<Vec<NodeStatus>> = statuses
+        .iter()
+        .map(|s| {
+            s.iter()
+                .map(|&x| if x.pressed() { NodeStatus::Stick } else { x })
+                .collect()
+        })
+        .collect();
+    signs.sort();
+    signs.dedup();
+    let statuses: Vec<&[NodeStatus]> = signs.iter().map(|s| s.as_slice()).collect();
+    cones_of_statuses(&statuses)
+        .into_iter()
+        .map(|c| c.pattern)
+        .collect()
+}
+
+fn cones_of_statuses(statuses: &[&[NodeStatus]]) -> Vec<Cone> {
+    let p = statuses.len();
     let adjacent: Vec<Vec<bool>> = (0..p)
         .map(|i| {
             (0..p)
-                .map(|j| i != j && cross_complementary(&rays[i].status, &rays[j].status))
+                .map(|j| i != j && cross_complementary(statuses[i], statuses[j]))
                 .collect()
         })
         .collect();
     let mut cones: Vec<Cone> = maximal_cliques(p, |i, j| adjacent[i][j])
         .into_iter()
         .map(|members| {
-            let m = rays.first().map_or(0, |r| r.status.len());
+            let m = statuses.first().map_or(0, |s| s.len());
             let pattern = (0..m)
                 .map(|k| {
-                    if members.iter().any(|&i| rays[i].status[k].pressed()) {
+                    if members.iter().any(|&i| statuses[i][k].pressed()) {
                         ContactPattern::Contact
-                    } else if members.iter().any(|&i| rays[i].status[k].gap_open()) {
+                    } else if members.iter().any(|&i| statuses[i][k].gap_open()) {
                         ContactPattern::Separated
                     } else {
                         ContactPattern::Grazing

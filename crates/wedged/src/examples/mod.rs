@@ -108,6 +108,30 @@ pub fn wide_vgroove(
     )
 }
 
+/// The 3D plug: the demo's V-notch plug extruded into a V-groove (bottom width 1, top width 2,
+/// height 1, length 1; steel), its top face clamped, both slanted faces in contact, meshed with
+/// `4 x ny x nz` hexahedra. It has `2 nz (ny + 1)` contact nodes (the top row is clamped):
+/// `plug3d(4, 2)` has 20, the size of the branch-and-bound benchmark.
+pub fn plug3d(ny: usize, nz: usize) -> Result<crate::fe::Model, crate::fe::FeError> {
+    use crate::fe::{generate::VGroove, Material, Model, Plane};
+    let mesh = VGroove {
+        bottom_width: 1.0,
+        top_width: 2.0,
+        height: 1.0,
+        length: 1.0,
+        nx: 4,
+        ny,
+        nz,
+        simplices: false,
+    }
+    .mesh()?;
+    Model::build(
+        mesh,
+        Material::new(210e9, 0.3, Plane::Strain)?,
+        &plug_spec(),
+    )
+}
+
 /// Contact on the generated group `contact`, clamp on `top`.
 fn plug_spec() -> crate::fe::BoundarySpec {
     crate::fe::BoundarySpec {
@@ -175,4 +199,27 @@ pub fn block_spd_problem(m: usize, block: usize, mu: f64, seed: u64) -> Problem 
             .copy_from(part.stiffness());
     }
     Problem::new(2, k, mu).expect("a block diagonal of SPD blocks is SPD")
+}
+
+/// A seeded random problem of dimension `dim` (2 or 3) with `K = A A^T + diag(d)`, `A` square
+/// with entries uniform in `[-1, 1)`, `d` uniform in `[0.05, 1)` (the 2D one is
+/// [`random_spd_problem`]'s matrix).
+pub fn random_spd_problem_dim(dim: usize, m: usize, mu: f64, seed: u64) -> Problem {
+    if dim == 2 {
+        return random_spd_problem(m, mu, seed);
+    }
+    let n = dim * m;
+    let mut state = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    let mut uniform = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let a = DMatrix::from_fn(n, n, |_, _| 2.0 * uniform() - 1.0);
+    let d = nalgebra::DVector::from_fn(n, |_, _| 0.05 + 0.95 * uniform());
+    let k = &a * a.transpose() + DMatrix::from_diagonal(&d);
+    Problem::new(dim, k, mu).expect("A A^T + diag(d) with d > 0 is positive definite")
 }

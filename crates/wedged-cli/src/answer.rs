@@ -1,0 +1,149 @@
+//! What a run computed, whichever kind of method computed it: the rays and cones of a 2D ray
+//! method, or the sign patterns of a pattern method (2D or 3D). The summary, the JSON and the
+//! per-piece files read it through [`Answer`].
+//!
+//! Both kinds describe the solution set as a union of convex pieces. [`Answer::pieces`] gives
+//! them in one form, [`Piece`]: a pattern method's maximal patterns as they are (with their
+//! witness), a ray method's cones as their pattern, [`Enumeration::cone_status`] and
+//! [`Enumeration::cone_centroid`] (the mean of the cone's rays, a solution in its relative
+//! interior), in the order of the cones, so that piece `N` is cone `N`.
+
+use wedged::patterns::{PatternMethod, PatternSettings, Patterns};
+use wedged::{ContactPattern, Enumeration, NodeStatus, Outcome, Settings};
+
+/// The method asked for, with its settings.
+#[derive(Debug, Clone)]
+pub enum Choice {
+    /// A 2D ray method (`pruned-dd`, `full-dd`, `faces`).
+    Rays(Settings),
+    /// A sign-pattern method (`bnb`, `pyramid`, `pattern-faces`).
+    Patterns(PatternSettings),
+}
+
+impl Choice {
+    /// The method's name, as on the command line and in the JSON.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Choice::Rays(s) => s.method.name(),
+            Choice::Patterns(s) => s.method.name(),
+        }
+    }
+
+    /// The number of faces of the pyramid, for the pyramid method.
+    pub fn pyramid_faces(&self) -> Option<usize> {
+        match self {
+            Choice::Patterns(PatternSettings {
+                method: PatternMethod::Pyramid { faces },
+                ..
+            }) => Some(*faces),
+            _ => None,
+        }
+    }
+}
+
+/// The result of a run.
+#[derive(Debug, Clone)]
+pub enum Answer {
+    Rays(Enumeration),
+    Patterns(Patterns),
+}
+
+/// One convex piece of the solution set, with a solution in its relative interior.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Piece {
+    /// Per node: contact, separated or grazing throughout the piece.
+    pub pattern: Vec<ContactPattern>,
+    /// Per node, the status in the piece's relative interior (at the witness).
+    pub status: Vec<NodeStatus>,
+    /// The witness's displacements and reactions, local frames, `sum r_n = 1`.
+    pub u: Vec<f64>,
+    pub r: Vec<f64>,
+    /// The pattern method's margin (the witness's smallest positive entry); `None` for a cone of
+    /// a ray method, whose witness is the mean of its rays.
+    pub margin: Option<f64>,
+}
+
+impl Answer {
+    pub fn outcome(&self) -> Outcome {
+        match self {
+            Answer::Rays(e) => e.outcome,
+            Answer::Patterns(p) => p.outcome,
+        }
+    }
+
+    /// The reason the run is incomplete, if it is.
+    pub fn stopped(&self) -> Option<wedged::Stop> {
+        match self.outcome() {
+            Outcome::Incomplete(stop) => Some(stop),
+            _ => None,
+        }
+    }
+
+    /// The convex pieces: a pattern run's maximal patterns, a ray run's cones (in cone order).
+    pub fn pieces(&self) -> Vec<Piece> {
+        match self {
+            Answer::Rays(e) => e
+                .cones
+                .iter()
+                .map(|cone| {
+                    let (u, r) = e.cone_centroid(cone);
+                    Piece {
+                        pattern: cone.pattern.clone(),
+                        status: e.cone_status(cone),
+                        u,
+                        r,
+                        margin: None,
+                    }
+                })
+                .collect(),
+            Answer::Patterns(p) => p
+                .patterns
+                .iter()
+                .map(|q| Piece {
+                    pattern: q.pattern.clone(),
+                    status: q.status.clone(),
+                    u: q.u.clone(),
+                    r: q.r.clone(),
+                    margin: Some(q.margin),
+                })
+                .collect(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use wedged::{enumerate, Problem};
+
+    #[test]
+    fn ray_pieces_follow_the_cones() {
+        let k = nalgebra::DMatrix::from_row_slice(
+            4,
+            4,
+            &[
+                2.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 2.0, 1.0, 0.0, 0.0, 1.0, 1.0,
+            ],
+        );
+        let problem = Problem::new(2, k, 1.1).unwrap();
+        let e = enumerate(&problem, &Settings::default()).unwrap();
+        let answer = Answer::Rays(e.clone());
+        let pieces = answer.pieces();
+        assert_eq!(pieces.len(), e.cones.len());
+        for (piece, cone) in pieces.iter().zip(&e.cones) {
+            assert_eq!(piece.pattern, cone.pattern);
+            assert_eq!(piece.margin, None);
+            let r_n: f64 = (0..2).map(|i| piece.r[2 * i]).sum();
+            assert!((r_n - 1.0).abs() < 1e-12);
+        }
+        assert_eq!(Choice::Rays(Settings::default()).name(), "pruned-dd");
+        let pyramid = Choice::Patterns(PatternSettings {
+            method: PatternMethod::Pyramid { faces: 12 },
+            ..PatternSettings::default()
+        });
+        assert_eq!(
+            (pyramid.name(), pyramid.pyramid_faces()),
+            ("pyramid", Some(12))
+        );
+    }
+}

@@ -1,0 +1,511 @@
+//! The sign patterns of the wedged problem (MISSION section 5): in 3D the friction cone is round
+//! and the solution set `S` is not spanned by finitely many rays, so it is described by its
+//! convex pieces instead.
+//!
+//! A *pattern* says, for every node, which of `u_n_i` and `r_n_i` is positive:
+//! [`ContactPattern::Contact`] (`r_n > 0`), [`ContactPattern::Separated`] (`u_n > 0`) or
+//! [`ContactPattern::Grazing`] (both zero). The solutions whose positive entries lie within those
+//! of a pattern `q` form a convex cone `F_q` (contact nodes: `u_n = 0` and the friction cone;
+//! separated: `r = 0`, `u_n >= 0`; grazing: both zero). `q` is *realised* when some solution has
+//! exactly its positive entries; realised patterns are closed under joins (the sum of two
+//! compatible solutions), so `S` is the union of the `F_q` of the **maximal** realised patterns:
+//! those are the convex pieces of `S`, the 3D counterpart of the 2D cones. Each is reported with
+//! a witness from the relative interior of its piece.
+//!
+//! Three methods, which share nothing but the conic programs of `program.rs`:
+//! - [`PatternMethod::Bnb`] (`bnb.rs`): branch and bound on contact / separated, pruning a subtree
+//!   whose relaxation has no nontrivial solution or cannot press every node already in contact;
+//! - [`PatternMethod::Pyramid`] (`pyramid.rs`): the 2D algorithm on a circumscribed pyramid with
+//!   `k` faces, whose maximal patterns are candidates, each checked exactly;
+//! - [`PatternMethod::Faces`] (`faces.rs`): brute force over the `2^m` contact sets, each entry
+//!   maximised on its own; a test baseline.
+//!
+//! All conic programs go through [`crate::socp`], which returns checked answers or says it is
+//! unsure. Every reported witness is checked again here against WP itself.
+
+mod bnb;
+mod faces;
+pub(crate) mod program;
+mod pyramid;
+
+use std::fmt;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+use program::{Class, Counters, Entry, Formulation, POSITIVE};
+
+use crate::enumerate::{
+    ContactPattern, Control, EnumerateError, Limits, NodeStatus, Outcome, Progress, Stop,
+};
+use crate::problem::Problem;
+
+/// The default number of faces of the pyramid.
+pub const DEFAULT_PYRAMID_FACES: usize = 8;
+
+/// The most nodes [`PatternMethod::Faces`] accepts.
+pub const FACES_MAX_NODES: usize = 12;
+
+/// How the patterns are found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PatternMethod {
+    /// Branch and bound with SOCP relaxations. The default.
+    #[default]
+    Bnb,
+    /// The polyhedral approximation with a circumscribed pyramid of `faces` faces (3D; in 2D
+    /// the friction law is already polyhedral and `faces` is ignored).
+    Pyramid { faces: usize },
+    /// Brute force over all `2^m` contact sets (a test baseline, `m <= 12`).
+    Faces,
+}
+
+impl PatternMethod {
+    /// The name used on the command line and in JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            PatternMethod::Bnb => "bnb",
+            PatternMethod::Pyramid { .. } => "pyramid",
+            PatternMethod::Faces => "pattern-faces",
+        }
+    }
+}
+
+impl fmt::Display for PatternMethod {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Tuning of a pattern enumeration.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PatternSettings {
+    /// The method. Default [`PatternMethod::Bnb`].
+    pub method: PatternMethod,
+    /// The relative zero tolerance of the pyramid's double description (as
+    /// [`crate::Settings::zero_tol`]). Default `1e-9`.
+    pub zero_tol: f64,
+    /// Bounds on the run; none by default.
+    pub limits: Limits,
+}
+
+impl Default for PatternSettings {
+    fn default() -> Self {
+        PatternSettings {
+            method: PatternMethod::Bnb,
+            zero_tol: 1e-9,
+            limits: Limits::default(),
+        }
+    }
+}
+
+/// A maximal realised sign pattern: one convex piece of `S`, with a witness.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pattern {
+    /// Per node: contact, separated or grazing throughout the piece's relative interior.
+    pub pattern: Vec<ContactPattern>,
+    /// Per node, the status at the witness, which is in the relative interior: separated,
+    /// grazing, stick, or slip when every solution of the piece slips there (3D [`NodeStatus::Slip`],
+    /// 2D slip+/slip- by the sign of `r_t`).
+    pub status: Vec<NodeStatus>,
+    /// The witness's displacements, `dim*m`, in the local node frames.
+    pub u: Vec<f64>,
+    /// The witness's reactions, `dim*m`; `sum r_n = 1`.
+    pub r: Vec<f64>,
+    /// How far the witness is from the piece's boundary: the smallest of its positive entries,
+    /// which are the pressures `r_n` of contact nodes (with `sum r_n = 1`), the friction slacks
+    /// `mu r_n - ||r_t||` of sticking nodes, and the gaps `u_n` of separated nodes, each gap
+    /// divided by the largest entry of its row of `K^{-1}` (so it is the gap that a unit
+    /// reaction at the most compliant place would open: dimensionless like the others).
+    pub margin: f64,
+}
+
+/// A contact set the solver could not decide, so the answer may miss the patterns below it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Undecided {
+    /// Per node: contact (`true`) or not.
+    pub contact: Vec<bool>,
+    /// The solver's reason.
+    pub reason: String,
+}
+
+/// Diagnostics of a pattern enumeration.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PatternInfo {
+    /// Branch-and-bound nodes reached above the leaves (their relaxation solved, or inherited).
+    pub nodes_visited: u64,
+    /// Of those, the nodes whose relaxation was not solved because their parent's solution
+    /// already met their constraints (they are never pruned).
+    pub nodes_inherited: u64,
+    /// Nodes pruned because the relaxation had no nontrivial solution.
+    pub pruned_infeasible: u64,
+    /// Nodes pruned because some node already in contact could not be pressed.
+    pub pruned_unpressed: u64,
+    /// Leaves (complete contact sets) reached: realised, not pressable, or undecided.
+    pub leaves: u64,
+    /// Candidate patterns checked exactly (pyramid: maximal patterns of the approximation;
+    /// faces: contact sets with a nontrivial cone).
+    pub candidates: u64,
+    /// Candidates that were not realised as they stood (pyramid).
+    pub spurious: u64,
+    /// Rays of the pyramid approximation.
+    pub pyramid_rays: u64,
+    /// Conic programs solved (retries included).
+    pub socps: u64,
+    /// Programs solved a second time with tighter settings.
+    pub retries: u64,
+    /// Programs the solver left undecided after its retry.
+    pub uncertain: u64,
+    /// Decisions whose optimal value was within a factor of 100 of the positivity threshold.
+    pub near_degenerate: u64,
+    /// Realised patterns found before the maximal ones were kept.
+    pub realised: u64,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+}
+
+/// The result of [`enumerate_patterns`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Patterns {
+    /// Complete or not, wedged or not. A run with undecided contact sets is complete in the
+    /// sense that it finished, but see [`Patterns::undecided`].
+    pub outcome: Outcome,
+    /// The maximal realised patterns, sorted by pattern.
+    pub patterns: Vec<Pattern>,
+    /// Contact sets the solver could not decide.
+    pub undecided: Vec<Undecided>,
+    /// Diagnostics.
+    pub info: PatternInfo,
+}
+
+/// What a method hands to the finishing step: realised patterns (not necessarily maximal).
+pub(crate) struct Found {
+    pub patterns: Vec<Vec<ContactPattern>>,
+    pub undecided: Vec<Undecided>,
+}
+
+/// Enumerates the maximal realised sign patterns of a 2D or 3D problem.
+pub fn enumerate_patterns(
+    problem: &Problem,
+    settings: &PatternSettings,
+) -> Result<Patterns, EnumerateError> {
+    enumerate_patterns_with_control(problem, settings, &|_| {}, &AtomicBool::new(false))
+}
+
+/// [`enumerate_patterns`] with progress reports (from the calling thread: `done` out of `total`
+/// is the explored fraction of the search, `rays` the realised patterns found so far) and a
+/// cancellation flag.
+pub fn enumerate_patterns_with_control(
+    problem: &Problem,
+    settings: &PatternSettings,
+    progress: &dyn Fn(Progress),
+    cancel: &AtomicBool,
+) -> Result<Patterns, EnumerateError> {
+    if !(settings.zero_tol > 0.0 && settings.zero_tol < 1e-2) {
+        return Err(EnumerateError::InvalidSettings(format!(
+            "zero_tol must be in (0, 0.01), got {}",
+            settings.zero_tol
+        )));
+    }
+    match settings.method {
+        PatternMethod::Faces if problem.nodes() > FACES_MAX_NODES => {
+            return Err(EnumerateError::InvalidSettings(format!(
+                "the pattern-faces method tries all 2^m contact sets; m = {} is more than its \
+                 limit of {FACES_MAX_NODES} (use bnb)",
+                problem.nodes()
+            )))
+        }
+        PatternMethod::Pyramid { faces } if !(3..=64).contains(&faces) => {
+            return Err(EnumerateError::InvalidSettings(format!(
+                "the pyramid needs 3 to 64 faces, got {faces}"
+            )))
+        }
+        _ => {}
+    }
+    let start = Instant::now();
+    let control = Control::new(settings.limits, cancel);
+    let form = Formulation::new(problem);
+    let mut info = PatternInfo::default();
+    let found = if control.must_stop(0) {
+        Found {
+            patterns: Vec::new(),
+            undecided: Vec::new(),
+        }
+    } else {
+        match settings.method {
+            PatternMethod::Bnb => bnb::run(&form, &mut info, progress, &control),
+            PatternMethod::Faces => faces::run(&form, &mut info, &control),
+            PatternMethod::Pyramid { faces } => pyramid::run(
+                &form,
+                faces,
+                settings.zero_tol,
+                &mut info,
+                progress,
+                &control,
+            ),
+        }
+    };
+    info.realised = found.patterns.len() as u64;
+    let mut patterns = Vec::new();
+    let mut undecided = found.undecided;
+    for q in maximal(found.patterns) {
+        match finish(&form, &q) {
+            Ok(p) => patterns.push(p),
+            Err(reason) => undecided.push(Undecided {
+                contact: q.iter().map(|&c| c == ContactPattern::Contact).collect(),
+                reason,
+            }),
+        }
+    }
+    patterns.sort_by(|a, b| a.pattern.cmp(&b.pattern));
+    let c = &form.counters;
+    info.socps = Counters::get(&c.socps);
+    info.retries = Counters::get(&c.retries);
+    info.uncertain = Counters::get(&c.uncertain);
+    info.near_degenerate = Counters::get(&c.near_degenerate);
+    info.seconds = start.elapsed().as_secs_f64();
+    let outcome = match control.stopped() {
+        Some(stop) => Outcome::Incomplete(stop),
+        // The patterns below an undecided contact set may be missing.
+        None if !undecided.is_empty() => Outcome::Incomplete(Stop::Undecided),
+        None if patterns.is_empty() => Outcome::NotWedged,
+        None => Outcome::Wedged,
+    };
+    Ok(Patterns {
+        outcome,
+        patterns,
+        undecided,
+        info,
+    })
+}
+
+/// The candidates of the pyramid method with `faces` faces, before they are checked: the
+/// maximal patterns of the polyhedral approximation (a diagnostic, and the test of how the
+/// approximation tightens as `faces` grows).
+pub fn pyramid_candidates(
+    problem: &Problem,
+    faces: usize,
+    zero_tol: f64,
+) -> Result<Vec<Vec<ContactPattern>>, EnumerateError> {
+    if problem.dim() == 3 && !(3..=64).contains(&faces) {
+        return Err(EnumerateError::InvalidSettings(format!(
+            "the pyramid needs 3 to 64 faces, got {faces}"
+        )));
+    }
+    let cancel = AtomicBool::new(false);
+    let control = Control::new(Limits::default(), &cancel);
+    Ok(pyramid::candidates(problem, faces, zero_tol, &|_| {}, &control).0)
+}
+
+/// `a <= b`: every positive entry of `a` is a positive entry of `b`.
+pub(crate) fn below(a: &[ContactPattern], b: &[ContactPattern]) -> bool {
+    a.iter()
+        .zip(b)
+        .all(|(&x, &y)| x == ContactPattern::Grazing || x == y)
+}
+
+/// The maximal elements of a set of patterns, without repeats, sorted.
+pub(crate) fn maximal(mut all: Vec<Vec<ContactPattern>>) -> Vec<Vec<ContactPattern>> {
+    all.sort();
+    all.dedup();
+    let keep: Vec<bool> = (0..all.len())
+        .map(|a| !(0..all.len()).any(|b| b != a && below(&all[a], &all[b])))
+        .collect();
+    all.into_iter()
+        .zip(keep)
+        .filter_map(|(q, k)| k.then_some(q))
+        .collect()
+}
+
+/// The classes of the cone `F_q` of a pattern.
+pub(crate) fn classes_of(q: &[ContactPattern]) -> Vec<Class> {
+    q.iter()
+        .map(|c| match c {
+            ContactPattern::Contact => Class::Contact,
+            ContactPattern::Separated => Class::Separated,
+            ContactPattern::Grazing => Class::Grazing,
+        })
+        .collect()
+}
+
+/// The entries a pattern says are positive.
+pub(crate) fn positives(q: &[ContactPattern]) -> Vec<Entry> {
+    q.iter()
+        .enumerate()
+        .filter_map(|(i, c)| match c {
+            ContactPattern::Contact => Some(Entry::Press(i)),
+            ContactPattern::Separated => Some(Entry::Gap(i)),
+            ContactPattern::Grazing => None,
+        })
+        .collect()
+}
+
+/// The pattern of a support: contact where pressed, separated where the gap opens.
+pub(crate) fn pattern_of(m: usize, support: &[Entry]) -> Vec<ContactPattern> {
+    let mut q = vec![ContactPattern::Grazing; m];
+    for e in support {
+        match *e {
+            Entry::Press(i) => q[i] = ContactPattern::Contact,
+            Entry::Gap(i) => q[i] = ContactPattern::Separated,
+            Entry::Stick(_) => {}
+        }
+    }
+    q
+}
+
+/// The witness of a maximal realised pattern: the nodes that can stick are found, then one
+/// solution makes every positive entry and every stick slack positive at once; it is checked
+/// against WP before it is returned.
+fn finish(form: &Formulation, q: &[ContactPattern]) -> Result<Pattern, String> {
+    let classes = classes_of(q);
+    let wanted = positives(q);
+    let contact: Vec<usize> = (0..form.m)
+        .filter(|&i| q[i] == ContactPattern::Contact)
+        .collect();
+    let mut all = wanted.clone();
+    all.extend(contact.iter().map(|&i| Entry::Stick(i)));
+    let program::Support {
+        entries: support,
+        r,
+        value: margin,
+    } = form
+        .support(&classes, &all)?
+        .ok_or("a realised pattern's cone has become trivial")?;
+    if !wanted.iter().all(|e| support.contains(e)) {
+        return Err(format!(
+            "the pattern is not realised when stick is asked for too (reached {margin:e})"
+        ));
+    }
+    let status: Vec<NodeStatus> = (0..form.m)
+        .map(|i| match q[i] {
+            ContactPattern::Separated => NodeStatus::Separated,
+            ContactPattern::Grazing => NodeStatus::Grazing,
+            ContactPattern::Contact if support.contains(&Entry::Stick(i)) => NodeStatus::Stick,
+            ContactPattern::Contact if form.dim == 3 => NodeStatus::Slip,
+            ContactPattern::Contact if r[2 * i + 1] > 0.0 => NodeStatus::SlipPlus,
+            ContactPattern::Contact => NodeStatus::SlipMinus,
+        })
+        .collect();
+    let u = form.problem.displacement(&r);
+    check_witness(form, q, &status, &u, &r)?;
+    Ok(Pattern {
+        pattern: q.to_vec(),
+        status,
+        u,
+        r,
+        margin,
+    })
+}
+
+/// The relative accuracy a witness must meet: equalities within it (relative to the terms they
+/// sum), positive entries above [`POSITIVE`] (they were pushed up to at least that).
+const WITNESS_TOL: f64 = 1e-6;
+
+/// Checks a witness against WP: equilibrium `K u = r`, normalisation, `u_n >= 0`, friction,
+/// complementarity and every claimed status.
+pub(crate) fn check_witness(
+    form: &Formulation,
+    q: &[ContactPattern],
+    status: &[NodeStatus],
+    u: &[f64],
+    r: &[f64],
+) -> Result<(), String> {
+    let (d, m) = (form.dim, form.m);
+    let k = form.problem.stiffness();
+    let n = d * m;
+    for a in 0..n {
+        let (mut v, mut s) = (-r[a], r[a].abs());
+        for b in 0..n {
+            v += k[(a, b)] * u[b];
+            s += (k[(a, b)] * u[b]).abs();
+        }
+        if v.abs() > WITNESS_TOL * s.max(f64::MIN_POSITIVE) {
+            return Err(format!(
+                "equilibrium fails in row {a}: residual {v:e} of {s:e}"
+            ));
+        }
+    }
+    let total: f64 = (0..m).map(|i| r[d * i]).sum();
+    if (total - 1.0).abs() > WITNESS_TOL {
+        return Err(format!("sum r_n = {total}, not 1"));
+    }
+    let u_scale = u.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    for i in 0..m {
+        let (un, rn) = (u[d * i], r[d * i]);
+        let gap = form.gap_of(r, i);
+        let slack = form.slack_of(r, i);
+        let r_norm = r[d * i..d * i + d]
+            .iter()
+            .map(|x| x * x)
+            .sum::<f64>()
+            .sqrt();
+        let un_zero = un.abs() <= WITNESS_TOL * u_scale;
+        let fail = |what: &str| {
+            Err(format!(
+                "node {}: {what} (u_n = {un:e}, r_n = {rn:e}, friction slack {slack:e})",
+                i + 1
+            ))
+        };
+        if slack < -WITNESS_TOL {
+            return fail("outside the friction cone");
+        }
+        if un < -WITNESS_TOL * u_scale {
+            return fail("penetrates the obstacle");
+        }
+        let ok = match (q[i], status[i]) {
+            (ContactPattern::Separated, NodeStatus::Separated) => {
+                r_norm == 0.0 && gap > POSITIVE * 0.5
+            }
+            (ContactPattern::Grazing, NodeStatus::Grazing) => r_norm == 0.0 && un_zero,
+            (ContactPattern::Contact, s) => {
+                let pressed = un_zero && rn > POSITIVE * 0.5;
+                let stick = slack > POSITIVE * 0.5;
+                pressed
+                    && match s {
+                        NodeStatus::Stick => stick,
+                        NodeStatus::Slip | NodeStatus::SlipPlus | NodeStatus::SlipMinus => true,
+                        _ => false,
+                    }
+            }
+            _ => false,
+        };
+        if !ok {
+            return fail(&format!(
+                "claimed {} is not what the witness shows",
+                status[i].name()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The search over contact sets: the classes of a leaf whose contact set is `contact`, and its
+/// realised pattern (contact set pressed, separated nodes' gaps opened where they can be), or
+/// `None` when not every node of the contact set can be pressed.
+pub(crate) fn leaf_pattern(
+    form: &Formulation,
+    contact: &[bool],
+) -> Result<Option<Vec<ContactPattern>>, String> {
+    let classes: Vec<Class> = contact
+        .iter()
+        .map(|&c| if c { Class::Contact } else { Class::Separated })
+        .collect();
+    // One support program: a node of the contact set that no solution presses is missing
+    // from the support, and then the leaf has no pattern of its own.
+    let mut wanted: Vec<Entry> = (0..form.m)
+        .filter(|&i| contact[i])
+        .map(Entry::Press)
+        .collect();
+    let presses = wanted.len();
+    wanted.extend((0..form.m).filter(|&i| !contact[i]).map(Entry::Gap));
+    let Some(support) = form.support(&classes, &wanted)? else {
+        return Ok(None);
+    };
+    let pressed = support
+        .entries
+        .iter()
+        .filter(|e| matches!(e, Entry::Press(_)))
+        .count();
+    if pressed < presses {
+        return Ok(None);
+    }
+    Ok(Some(pattern_of(form.m, &support.entries)))
+}

@@ -1,0 +1,320 @@
+//! The wedged problem with some nodes' contact status fixed, as a conic program for
+//! [`crate::socp`], and the decisions taken from its answer.
+//!
+//! The unknowns are the reactions `r` of the nodes whose reaction may be nonzero; `u = K^{-1} r`
+//! is eliminated. Each gap row `u_n_i` is divided by the largest entry of its compliance row, so
+//! that gaps and pressures (normalised by `sum r_n = 1`) are numbers of order one whatever the
+//! units of `K`. A node is in one of four classes ([`Class`]).
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use crate::problem::Problem;
+use crate::socp::{solve, Affine, Answer, Program};
+
+/// An entry is positive when it can reach this value, with `sum r_n = 1` and gaps scaled as in
+/// the module docs. Below it an entry counts as zero: the resolution of the method, a hundred
+/// times the solver's accuracy (about `1e-9` after the checks of [`crate::socp`]).
+pub const POSITIVE: f64 = 1e-7;
+
+/// Optimal values within a factor of 100 of [`POSITIVE`] on either side are close calls: they
+/// are decided, and counted in `info.near_degenerate`.
+const NEAR: f64 = 100.0;
+
+/// What a node is constrained to in one program.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) enum Class {
+    /// `u_n = 0`, `r` in the friction cone.
+    Contact,
+    /// `r = 0`, `u_n >= 0`.
+    Separated,
+    /// `u_n >= 0` and `r` in the friction cone, no complementarity (undecided in a search).
+    Free,
+    /// `u_n = 0` and `r = 0`.
+    Grazing,
+}
+
+impl Class {
+    fn has_r(self) -> bool {
+        matches!(self, Class::Contact | Class::Free)
+    }
+}
+
+/// A quantity the program can push up: the normal pressure of a node, its (scaled) gap, or its
+/// friction slack `mu r_n - ||r_t||`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Entry {
+    Press(usize),
+    Gap(usize),
+    Stick(usize),
+}
+
+/// The goal of one program.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Goal<'a> {
+    /// Any feasible point.
+    Feasible,
+    /// Maximise the smallest of the entries (all of them at once): `t` with every entry `>= t`.
+    MaxMin(&'a [Entry]),
+}
+
+/// The answer to one program, in the problem's terms.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Decision {
+    /// Feasible; the reactions `r` (all `dim*m`, `sum r_n = 1`) and the optimal value (`0` for
+    /// [`Goal::Feasible`]).
+    Yes { r: Vec<f64>, value: f64 },
+    /// Infeasible (certified by the solver adapter): no nontrivial solution.
+    No,
+    /// The solver could not decide, even after its retry.
+    Unsure(String),
+}
+
+/// Counters shared by the threads of one run.
+#[derive(Debug, Default)]
+pub(crate) struct Counters {
+    pub socps: AtomicU64,
+    pub retries: AtomicU64,
+    pub uncertain: AtomicU64,
+    pub near_degenerate: AtomicU64,
+}
+
+impl Counters {
+    fn add(c: &AtomicU64, n: u64) {
+        c.fetch_add(n, Ordering::Relaxed);
+    }
+    pub(crate) fn get(c: &AtomicU64) -> u64 {
+        c.load(Ordering::Relaxed)
+    }
+}
+
+/// The support of a cone ([`Formulation::support`]).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Support {
+    /// The entries some solution makes positive.
+    pub entries: Vec<Entry>,
+    /// A solution (reactions, `sum r_n = 1`) that makes all of them positive at once.
+    pub r: Vec<f64>,
+    /// The smallest of them at `r` (`0` when there are none).
+    pub value: f64,
+}
+
+/// The data every program of a run shares.
+pub(crate) struct Formulation<'a> {
+    pub problem: &'a Problem,
+    pub dim: usize,
+    pub m: usize,
+    pub mu: f64,
+    /// Scaled gap rows: `gap[i][c] = G[n_i, c] / max_c |G[n_i, c]|`.
+    gap: Vec<Vec<f64>>,
+    pub counters: Counters,
+}
+
+impl<'a> Formulation<'a> {
+    pub(crate) fn new(problem: &'a Problem) -> Formulation<'a> {
+        let (dim, m) = (problem.dim(), problem.nodes());
+        let g = problem.compliance();
+        let gap = (0..m)
+            .map(|i| {
+                let row: Vec<f64> = g.row(dim * i).iter().copied().collect();
+                let scale = row.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+                row.iter().map(|x| x / scale).collect()
+            })
+            .collect();
+        Formulation {
+            problem,
+            dim,
+            m,
+            mu: problem.mu(),
+            gap,
+            counters: Counters::default(),
+        }
+    }
+
+    /// The scaled gap `u_n_i` of reactions `r` (all `dim*m`).
+    pub(crate) fn gap_of(&self, r: &[f64], i: usize) -> f64 {
+        self.gap[i].iter().zip(r).map(|(g, x)| g * x).sum()
+    }
+
+    /// The friction slack `mu r_n - ||r_t||` of node `i`.
+    pub(crate) fn slack_of(&self, r: &[f64], i: usize) -> f64 {
+        let d = self.dim;
+        let rt = r[d * i + 1..d * i + d]
+            .iter()
+            .map(|x| x * x)
+            .sum::<f64>()
+            .sqrt();
+        self.mu * r[d * i] - rt
+    }
+
+    /// The value of an entry at reactions `r`.
+    pub(crate) fn entry_of(&self, r: &[f64], e: Entry) -> f64 {
+        match e {
+            Entry::Press(i) => r[self.dim * i],
+            Entry::Gap(i) => self.gap_of(r, i),
+            Entry::Stick(i) => self.slack_of(r, i),
+        }
+    }
+
+    /// Solves the program of `classes` with `goal`.
+    pub(crate) fn decide(&self, classes: &[Class], goal: Goal) -> Decision {
+        let (d, m) = (self.dim, self.m);
+        // Variable offsets of the nodes with a reaction.
+        let mut offset = vec![usize::MAX; m];
+        let mut vars = 0;
+        for i in (0..m).filter(|&i| classes[i].has_r()) {
+            offset[i] = vars;
+            vars += d;
+        }
+        if vars == 0 {
+            // Every reaction is zero: only the trivial solution.
+            return Decision::No;
+        }
+        let entries: &[Entry] = match goal {
+            Goal::Feasible => &[],
+            Goal::MaxMin(e) => e,
+        };
+        let t = (!entries.is_empty()).then_some(vars);
+        let mut p = Program::new(vars + t.is_some() as usize);
+        let gap = |i: usize, minus_t: bool| {
+            let mut terms: Vec<(usize, f64)> = (0..m)
+                .filter(|&j| classes[j].has_r())
+                .flat_map(|j| (0..d).map(move |c| (j, c)))
+                .map(|(j, c)| (offset[j] + c, self.gap[i][d * j + c]))
+                .filter(|&(_, g)| g != 0.0)
+                .collect();
+            if minus_t {
+                terms.push((vars, -1.0));
+            }
+            Affine::new(terms, 0.0)
+        };
+        let stick: Vec<usize> = entries
+            .iter()
+            .filter_map(|e| match e {
+                Entry::Stick(i) => Some(*i),
+                _ => None,
+            })
+            .collect();
+        for i in 0..m {
+            let c = classes[i];
+            match c {
+                Class::Contact | Class::Grazing => p.zero(gap(i, false)),
+                Class::Separated | Class::Free => {
+                    p.nonneg(gap(i, t.is_some() && entries.contains(&Entry::Gap(i))))
+                }
+            }
+            if c.has_r() {
+                let o = offset[i];
+                // Friction: (mu r_n [- t], r_t) in the cone; in 2D two half-planes.
+                let mut head = vec![(o, self.mu)];
+                if stick.contains(&i) {
+                    head.push((vars, -1.0));
+                }
+                if d == 2 {
+                    for sign in [1.0, -1.0] {
+                        let mut terms = head.clone();
+                        terms.push((o + 1, -sign));
+                        p.nonneg(Affine::new(terms, 0.0));
+                    }
+                } else {
+                    p.soc(
+                        Affine::new(head, 0.0),
+                        (1..d).map(|c| Affine::var(o + c)).collect(),
+                    );
+                }
+                p.nonneg(if entries.contains(&Entry::Press(i)) {
+                    Affine::new(vec![(o, 1.0), (vars, -1.0)], 0.0)
+                } else {
+                    Affine::var(o)
+                });
+            }
+        }
+        // sum r_n = 1.
+        let normal: Vec<(usize, f64)> = (0..m)
+            .filter(|&i| classes[i].has_r())
+            .map(|i| (offset[i], 1.0))
+            .collect();
+        p.zero(Affine::new(normal, -1.0));
+        if let Some(t) = t {
+            // t <= 1 keeps the program bounded whatever the entries.
+            p.nonneg(Affine::new(vec![(t, -1.0)], 1.0));
+            p.minimise(&[(t, -1.0)]);
+        }
+        let (answer, stats) = solve(&p);
+        Counters::add(&self.counters.socps, stats.solves);
+        Counters::add(&self.counters.retries, stats.retries);
+        match answer {
+            Answer::Optimal { x, .. } => {
+                let mut r = vec![0.0; d * m];
+                for i in (0..m).filter(|&i| classes[i].has_r()) {
+                    r[d * i..d * i + d].copy_from_slice(&x[offset[i]..offset[i] + d]);
+                }
+                let value = t.map_or(0.0, |t| x[t]);
+                if t.is_some() && value > POSITIVE / NEAR && value < POSITIVE * NEAR {
+                    Counters::add(&self.counters.near_degenerate, 1);
+                }
+                Decision::Yes { r, value }
+            }
+            Answer::Infeasible => Decision::No,
+            Answer::Uncertain { reason } => {
+                Counters::add(&self.counters.uncertain, 1);
+                Decision::Unsure(reason)
+            }
+        }
+    }
+
+    /// The support of the cone of `classes`: the entries among `wanted` that some solution makes
+    /// positive (then one solution makes them all positive at once), with a witness that does.
+    /// `None` when the cone is trivial; `Err` when the solver could not decide.
+    ///
+    /// First all of `wanted` are pushed up together; the entries that stay at zero are then
+    /// tried one at a time (an interior-point solver tends to the relative interior of the
+    /// optimal set, so few are left for this second round).
+    pub(crate) fn support(
+        &self,
+        classes: &[Class],
+        wanted: &[Entry],
+    ) -> Result<Option<Support>, String> {
+        let (r, value) = match self.decide(classes, Goal::MaxMin(wanted)) {
+            Decision::No => return Ok(None),
+            Decision::Unsure(why) => return Err(why),
+            Decision::Yes { r, value } => (r, value),
+        };
+        if value > POSITIVE {
+            return Ok(Some(Support {
+                entries: wanted.to_vec(),
+                r,
+                value,
+            }));
+        }
+        let (mut found, rest): (Vec<Entry>, Vec<Entry>) = wanted
+            .iter()
+            .partition(|&&e| self.entry_of(&r, e) > POSITIVE);
+        for e in rest {
+            match self.decide(classes, Goal::MaxMin(&[e])) {
+                Decision::No => return Ok(None),
+                Decision::Unsure(why) => return Err(why),
+                Decision::Yes { value, .. } if value > POSITIVE => found.push(e),
+                Decision::Yes { .. } => {}
+            }
+        }
+        if found.is_empty() {
+            return Ok(Some(Support {
+                entries: found,
+                r,
+                value: 0.0,
+            }));
+        }
+        match self.decide(classes, Goal::MaxMin(&found)) {
+            Decision::Yes { r, value } if value > POSITIVE => Ok(Some(Support {
+                entries: found,
+                r,
+                value,
+            })),
+            Decision::Yes { value, .. } => Err(format!(
+                "entries positive one at a time reached only {value:e} together"
+            )),
+            Decision::No => Ok(None),
+            Decision::Unsure(why) => Err(why),
+        }
+    }
+}
