@@ -155,13 +155,7 @@ fn render_rays(out: &mut String, problem: &Problem, result: &Enumeration) {
                 rays_table(out, problem, result);
             }
         }
-        Outcome::NotWedged => {
-            let _ = writeln!(
-                out,
-                "no wedged configuration: only the trivial solution u = r = 0 exists at mu = {}",
-                problem.mu()
-            );
-        }
+        Outcome::NotWedged => not_wedged(out, problem),
         Outcome::Wedged => {
             let _ = writeln!(
                 out,
@@ -181,6 +175,15 @@ fn render_rays(out: &mut String, problem: &Problem, result: &Enumeration) {
     }
     out.push('\n');
     let _ = writeln!(out, "info: {}", info_line(&result.info));
+}
+
+/// The line of a complete run that found nothing but the trivial solution.
+fn not_wedged(out: &mut String, problem: &Problem) {
+    let _ = writeln!(
+        out,
+        "no wedged configuration: only the trivial solution u = r = 0 exists at mu = {}",
+        problem.mu()
+    );
 }
 
 /// The outcome, the warnings, the table and the diagnostics of a pattern method.
@@ -211,13 +214,7 @@ fn render_patterns(out: &mut String, problem: &Problem, choice: &Choice, result:
                 }
             );
         }
-        Outcome::NotWedged => {
-            let _ = writeln!(
-                out,
-                "no wedged configuration: only the trivial solution u = r = 0 exists at mu = {}",
-                problem.mu()
-            );
-        }
+        Outcome::NotWedged => not_wedged(out, problem),
         Outcome::Wedged => {
             let _ = writeln!(
                 out,

@@ -97,17 +97,18 @@ impl Friction {
                 .map(|j| (vec![1.0, self.mu * self.dirs[j][0]], vec![j]))
                 .collect();
         }
-        let half = std::f64::consts::PI / k as f64;
         (0..k)
-            .map(|j| {
-                let t = 2.0 * half * j as f64 + half;
-                let len = self.mu / half.cos();
-                (
-                    vec![1.0, len * t.cos(), len * t.sin()],
-                    vec![j, (j + 1) % k],
-                )
-            })
+            .map(|j| (self.edge(j).to_vec(), vec![j, (j + 1) % k]))
             .collect()
+    }
+
+    /// The 3D pyramid's edge between faces `j` and `j + 1`, `(1, r_t)`: `r_t` bisects their
+    /// directions at the length that touches both faces.
+    fn edge(&self, j: usize) -> [f64; 3] {
+        let half = std::f64::consts::PI / self.k() as f64;
+        let t = 2.0 * half * j as f64 + half;
+        let len = self.mu / half.cos();
+        [1.0, len * t.cos(), len * t.sin()]
     }
 
     /// A basis of the subspace of one node's `(r_n, r_t...)` where the facets in the bit mask
@@ -143,8 +144,7 @@ impl Friction {
                     None
                 };
                 if let Some(j) = edge {
-                    let e = &self.edges()[j].0;
-                    out.push([e[0], e[1], e[2]]);
+                    out.push(self.edge(j));
                 }
             }
             _ => {}

@@ -456,12 +456,7 @@ pub fn enumerate_with_control(
     if problem.dim() != 2 {
         return Err(EnumerateError::UnsupportedDim(problem.dim()));
     }
-    if !(settings.zero_tol > 0.0 && settings.zero_tol < 1e-2) {
-        return Err(EnumerateError::InvalidSettings(format!(
-            "zero_tol must be in (0, 0.01), got {}",
-            settings.zero_tol
-        )));
-    }
+    check_zero_tol(settings.zero_tol)?;
     if settings.method == Method::Faces && problem.nodes() > FACES_MAX_NODES {
         return Err(EnumerateError::InvalidSettings(format!(
             "the faces method tries every one of the 2^m contact sets; m = {} is more than its \
@@ -520,6 +515,17 @@ pub fn enumerate_with_control(
         cones,
         info,
     })
+}
+
+/// The range of [`Settings::zero_tol`], shared by the pattern methods.
+pub(crate) fn check_zero_tol(zero_tol: f64) -> Result<(), EnumerateError> {
+    if zero_tol > 0.0 && zero_tol < 1e-2 {
+        Ok(())
+    } else {
+        Err(EnumerateError::InvalidSettings(format!(
+            "zero_tol must be in (0, 0.01), got {zero_tol}"
+        )))
+    }
 }
 
 /// Two rays are cross-complementary when their sum is complementary at every node.

@@ -42,7 +42,7 @@ pub fn demo() -> Problem {
 /// at which it wedges. Bottom width 1, top width 2, height 1 (walls 26.6 degrees off vertical),
 /// 8 x 6 quadrilaterals: 12 contact nodes.
 pub fn plug2d_demo() -> Result<(crate::fe::Model, f64), crate::fe::FeError> {
-    use crate::fe::{generate::Plug2d, Material, Model, Plane};
+    use crate::fe::generate::Plug2d;
     let mesh = Plug2d {
         bottom_width: 1.0,
         top_width: 2.0,
@@ -52,12 +52,7 @@ pub fn plug2d_demo() -> Result<(crate::fe::Model, f64), crate::fe::FeError> {
         simplices: false,
     }
     .mesh()?;
-    let model = Model::build(
-        mesh,
-        Material::new(210e9, 0.3, Plane::Strain)?,
-        &plug_spec(),
-    )?;
-    Ok((model, PLUG2D_DEMO_MU))
+    Ok((steel_plug(mesh)?, PLUG2D_DEMO_MU))
 }
 
 /// The condensation benchmark bodies: a wide, shallow 2D plug (bottom width 10, top width 12,
@@ -66,7 +61,7 @@ pub fn plug2d_demo() -> Result<(crate::fe::Model, f64), crate::fe::FeError> {
 /// BENCHMARKS.md: `wide_plug2d(989, 100)` has 200,000 dofs and 200 contact nodes;
 /// `wide_vgroove(332, 24, 3)` has 99,900 dofs and 150 contact nodes.
 pub fn wide_plug2d(nx: usize, ny: usize) -> Result<crate::fe::Model, crate::fe::FeError> {
-    use crate::fe::{generate::Plug2d, Material, Model, Plane};
+    use crate::fe::generate::Plug2d;
     let mesh = Plug2d {
         bottom_width: 10.0,
         top_width: 12.0,
@@ -76,11 +71,7 @@ pub fn wide_plug2d(nx: usize, ny: usize) -> Result<crate::fe::Model, crate::fe::
         simplices: false,
     }
     .mesh()?;
-    Model::build(
-        mesh,
-        Material::new(210e9, 0.3, Plane::Strain)?,
-        &plug_spec(),
-    )
+    steel_plug(mesh)
 }
 
 /// See [`wide_plug2d`].
@@ -89,7 +80,7 @@ pub fn wide_vgroove(
     ny: usize,
     nz: usize,
 ) -> Result<crate::fe::Model, crate::fe::FeError> {
-    use crate::fe::{generate::VGroove, Material, Model, Plane};
+    use crate::fe::generate::VGroove;
     let mesh = VGroove {
         bottom_width: 30.0,
         top_width: 32.0,
@@ -101,11 +92,7 @@ pub fn wide_vgroove(
         simplices: false,
     }
     .mesh()?;
-    Model::build(
-        mesh,
-        Material::new(210e9, 0.3, Plane::Strain)?,
-        &plug_spec(),
-    )
+    steel_plug(mesh)
 }
 
 /// The 3D plug: the demo's V-notch plug extruded into a V-groove (bottom width 1, top width 2,
@@ -113,7 +100,7 @@ pub fn wide_vgroove(
 /// `4 x ny x nz` hexahedra. It has `2 nz (ny + 1)` contact nodes (the top row is clamped):
 /// `plug3d(4, 2)` has 20, the size of the branch-and-bound benchmark.
 pub fn plug3d(ny: usize, nz: usize) -> Result<crate::fe::Model, crate::fe::FeError> {
-    use crate::fe::{generate::VGroove, Material, Model, Plane};
+    use crate::fe::generate::VGroove;
     let mesh = VGroove {
         bottom_width: 1.0,
         top_width: 2.0,
@@ -125,6 +112,13 @@ pub fn plug3d(ny: usize, nz: usize) -> Result<crate::fe::Model, crate::fe::FeErr
         simplices: false,
     }
     .mesh()?;
+    steel_plug(mesh)
+}
+
+/// A generated plug body in steel (plane strain in 2D), contact on its group `contact`,
+/// clamped on `top`, condensed.
+fn steel_plug(mesh: crate::fe::Mesh) -> Result<crate::fe::Model, crate::fe::FeError> {
+    use crate::fe::{Material, Model, Plane};
     Model::build(
         mesh,
         Material::new(210e9, 0.3, Plane::Strain)?,
@@ -162,7 +156,13 @@ pub fn random_spd_problem(m: usize, mu: f64, seed: u64) -> Problem {
 /// are at most `band` apart along the boundary (every entry is drawn, so `band >= m - 1` gives
 /// [`random_spd_problem`]).
 pub fn banded_spd_problem(m: usize, band: usize, mu: f64, seed: u64) -> Problem {
-    let n = 2 * m;
+    seeded_spd_problem(2, m, band, mu, seed)
+}
+
+/// `K = A A^T + diag(d)` in dimension `dim`, `A[i][j]` kept when the nodes of `i` and `j` are at
+/// most `band` apart; entries drawn in column order from a fixed 64-bit LCG seeded by `seed`.
+fn seeded_spd_problem(dim: usize, m: usize, band: usize, mu: f64, seed: u64) -> Problem {
+    let n = dim * m;
     let mut state = seed
         .wrapping_mul(6364136223846793005)
         .wrapping_add(1442695040888963407);
@@ -174,7 +174,7 @@ pub fn banded_spd_problem(m: usize, band: usize, mu: f64, seed: u64) -> Problem 
     };
     let a = DMatrix::from_fn(n, n, |i, j| {
         let x = 2.0 * uniform() - 1.0;
-        if (i / 2).abs_diff(j / 2) <= band {
+        if (i / dim).abs_diff(j / dim) <= band {
             x
         } else {
             0.0
@@ -182,7 +182,7 @@ pub fn banded_spd_problem(m: usize, band: usize, mu: f64, seed: u64) -> Problem 
     });
     let d = nalgebra::DVector::from_fn(n, |_, _| 0.05 + 0.95 * uniform());
     let k = &a * a.transpose() + DMatrix::from_diagonal(&d);
-    Problem::new(2, k, mu).expect("A A^T + diag(d) with d > 0 is positive definite")
+    Problem::new(dim, k, mu).expect("A A^T + diag(d) with d > 0 is positive definite")
 }
 
 /// Several independent bodies (or contact patches that do not interact), each a seeded random
@@ -205,21 +205,6 @@ pub fn block_spd_problem(m: usize, block: usize, mu: f64, seed: u64) -> Problem 
 /// with entries uniform in `[-1, 1)`, `d` uniform in `[0.05, 1)` (the 2D one is
 /// [`random_spd_problem`]'s matrix).
 pub fn random_spd_problem_dim(dim: usize, m: usize, mu: f64, seed: u64) -> Problem {
-    if dim == 2 {
-        return random_spd_problem(m, mu, seed);
-    }
-    let n = dim * m;
-    let mut state = seed
-        .wrapping_mul(6364136223846793005)
-        .wrapping_add(1442695040888963407);
-    let mut uniform = move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let a = DMatrix::from_fn(n, n, |_, _| 2.0 * uniform() - 1.0);
-    let d = nalgebra::DVector::from_fn(n, |_, _| 0.05 + 0.95 * uniform());
-    let k = &a * a.transpose() + DMatrix::from_diagonal(&d);
-    Problem::new(dim, k, mu).expect("A A^T + diag(d) with d > 0 is positive definite")
+    // Every pair of nodes is within m of each other: the band keeps every entry.
+    seeded_spd_problem(dim, m, m, mu, seed)
 }

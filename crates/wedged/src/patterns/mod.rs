@@ -35,7 +35,8 @@ use std::time::Instant;
 use program::{Class, Counters, Entry, Formulation, POSITIVE};
 
 use crate::enumerate::{
-    ContactPattern, Control, EnumerateError, Limits, NodeStatus, Outcome, Progress, Stop,
+    check_zero_tol, ContactPattern, Control, EnumerateError, Limits, NodeStatus, Outcome, Progress,
+    Stop,
 };
 use crate::problem::Problem;
 
@@ -199,12 +200,7 @@ pub fn enumerate_patterns_with_control(
     progress: &dyn Fn(Progress),
     cancel: &AtomicBool,
 ) -> Result<Patterns, EnumerateError> {
-    if !(settings.zero_tol > 0.0 && settings.zero_tol < 1e-2) {
-        return Err(EnumerateError::InvalidSettings(format!(
-            "zero_tol must be in (0, 0.01), got {}",
-            settings.zero_tol
-        )));
-    }
+    check_zero_tol(settings.zero_tol)?;
     match settings.method {
         PatternMethod::Faces if problem.nodes() > FACES_MAX_NODES => {
             return Err(EnumerateError::InvalidSettings(format!(
@@ -213,11 +209,7 @@ pub fn enumerate_patterns_with_control(
                 problem.nodes()
             )))
         }
-        PatternMethod::Pyramid { faces } if !(3..=64).contains(&faces) => {
-            return Err(EnumerateError::InvalidSettings(format!(
-                "the pyramid needs 3 to 64 faces, got {faces}"
-            )))
-        }
+        PatternMethod::Pyramid { faces } => check_faces(faces)?,
         _ => {}
     }
     let start = Instant::now();
@@ -285,14 +277,23 @@ pub fn pyramid_candidates(
     faces: usize,
     zero_tol: f64,
 ) -> Result<Vec<Vec<ContactPattern>>, EnumerateError> {
-    if problem.dim() == 3 && !(3..=64).contains(&faces) {
-        return Err(EnumerateError::InvalidSettings(format!(
-            "the pyramid needs 3 to 64 faces, got {faces}"
-        )));
+    if problem.dim() == 3 {
+        check_faces(faces)?;
     }
     let cancel = AtomicBool::new(false);
     let control = Control::new(Limits::default(), &cancel);
     Ok(pyramid::candidates(problem, faces, zero_tol, &|_| {}, &control).0)
+}
+
+/// The range of the pyramid's faces.
+fn check_faces(faces: usize) -> Result<(), EnumerateError> {
+    if (3..=64).contains(&faces) {
+        Ok(())
+    } else {
+        Err(EnumerateError::InvalidSettings(format!(
+            "the pyramid needs 3 to 64 faces, got {faces}"
+        )))
+    }
 }
 
 /// `a <= b`: every positive entry of `a` is a positive entry of `b`.
