@@ -1,7 +1,8 @@
 //! # wedged
 //!
 //! Every wedged configuration of a linear elastic body in frictional contact with a rigid
-//! obstacle, and (in later versions) the critical friction coefficient.
+//! obstacle ([`enumerate`] in 2D, [`enumerate_patterns`] in 2D and 3D), and the critical
+//! friction coefficient below which none exists ([`critical`]).
 //!
 //! The condensed wedged problem (WP), with `K` symmetric positive definite in local node frames
 //! (normal first) and `mu > 0`:
@@ -29,9 +30,20 @@
 //! assert_eq!(above.rays[0].status[0].name(), "stick");
 //! ```
 //!
+//! ```
+//! use wedged::{critical, CriticalSettings, Problem};
+//! use nalgebra::DMatrix;
+//! // The same node: mu* = K_tt / |K_nt| = 1, bracketed with a witness at the upper end.
+//! let k = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 1.0]);
+//! let c = critical(&Problem::new(2, k, 1.1).unwrap(), &CriticalSettings::default()).unwrap();
+//! let (lower, upper) = (c.lower.unwrap(), c.upper.unwrap());
+//! assert!(lower <= 1.0 && 1.0 <= upper && upper - 1.0 < 1e-9);
+//! ```
+//!
 //! The core does no file I/O and knows no file format; those live in the `wedged` binary.
 
 pub mod cliques;
+pub mod critical;
 pub mod enumerate;
 pub mod examples;
 pub mod fe;
@@ -41,6 +53,10 @@ pub mod problem;
 pub(crate) mod socp;
 pub mod verify;
 
+pub use critical::{
+    critical, critical_with_control, Critical, CriticalInfo, CriticalMethod, CriticalProgress,
+    CriticalSettings, CriticalStatus, CriticalWitness, PatternThreshold,
+};
 pub use enumerate::{
     enumerate, enumerate_with_control, enumerate_with_progress, Cone, ContactPattern,
     EnumerateError, Enumeration, Info, Limits, Method, NodeStatus, Outcome, Progress, Ray,

@@ -55,6 +55,24 @@ pub fn plug2d_demo() -> Result<(crate::fe::Model, f64), crate::fe::FeError> {
     Ok((steel_plug(mesh)?, PLUG2D_DEMO_MU))
 }
 
+/// The 2D plug of the demo with `nx x ny` quadrilaterals (bottom width 1, top width 2, height 1,
+/// steel, plane strain, nu = 0.3; top clamped, both slanted sides in contact): `2 ny` contact
+/// nodes. `plug2d(10, 8)` (m = 16) and `plug2d(38, 30)` (m = 60) are the critical-coefficient
+/// benchmarks; the mesh study refines it.
+pub fn plug2d(nx: usize, ny: usize) -> Result<crate::fe::Model, crate::fe::FeError> {
+    use crate::fe::generate::Plug2d;
+    let mesh = Plug2d {
+        bottom_width: 1.0,
+        top_width: 2.0,
+        height: 1.0,
+        nx,
+        ny,
+        simplices: false,
+    }
+    .mesh()?;
+    steel_plug(mesh)
+}
+
 /// The condensation benchmark bodies: a wide, shallow 2D plug (bottom width 10, top width 12,
 /// height 1, nearly square elements) and a wide 3D V-groove plug (bottom width 30, top width 32,
 /// height 1, length 8), each steel, top clamped, both slanted sides in contact. Sizes in

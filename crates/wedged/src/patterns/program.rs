@@ -55,6 +55,21 @@ pub(crate) enum Goal<'a> {
     Feasible,
     /// Maximise the smallest of the entries (all of them at once): `t` with every entry `>= t`.
     MaxMin(&'a [Entry]),
+    /// Minimise `s` with `||r_t_i|| <= mu r_n_i + w_i s` at every node with a reaction, for
+    /// weights `w` (one per node, `>= 0`): the step of the Dinkelbach-type method for the least
+    /// friction coefficient of a cone (Crouzeix, Ferland and Schaible's second method, `w` the
+    /// pressures of the previous iterate). Needs [`Norm::Sum`] and a finite `mu`.
+    MinSlack(&'a [f64]),
+}
+
+/// How the cone of solutions is cut to make a program of it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Norm<'a> {
+    /// `sum r_n = 1`: a nontrivial solution.
+    Sum,
+    /// `r_n_i >= 1` at every listed node (a nonempty list): a solution pressing all of them.
+    /// Its infeasibility is a certificate that no solution presses them all at once.
+    Pressed(&'a [usize]),
 }
 
 /// The answer to one program, in the problem's terms.
@@ -155,8 +170,16 @@ impl<'a> Formulation<'a> {
         }
     }
 
-    /// Solves the program of `classes` with `goal`.
+    /// Solves the program of `classes` with `goal`, at the problem's `mu`, normalised by
+    /// `sum r_n = 1`.
     pub(crate) fn decide(&self, classes: &[Class], goal: Goal) -> Decision {
+        self.decide_at(classes, self.mu, Norm::Sum, goal)
+    }
+
+    /// Solves the program of `classes` with `goal` at friction coefficient `mu`
+    /// (`f64::INFINITY`: the friction cones become `r_n >= 0`, any `r_t`) and normalisation
+    /// `norm`. A returned `r` is rescaled to `sum r_n = 1`.
+    pub(crate) fn decide_at(&self, classes: &[Class], mu: f64, norm: Norm, goal: Goal) -> Decision {
         let (d, m) = (self.dim, self.m);
         // Variable offsets of the nodes with a reaction.
         let mut offset = vec![usize::MAX; m];
@@ -169,11 +192,13 @@ impl<'a> Formulation<'a> {
             // Every reaction is zero: only the trivial solution.
             return Decision::No;
         }
-        let entries: &[Entry] = match goal {
-            Goal::Feasible => &[],
-            Goal::MaxMin(e) => e,
+        let (entries, weights): (&[Entry], Option<&[f64]>) = match goal {
+            Goal::Feasible => (&[], None),
+            Goal::MaxMin(e) => (e, None),
+            Goal::MinSlack(w) => (&[], Some(w)),
         };
-        let t = (!entries.is_empty()).then_some(vars);
+        debug_assert!(weights.is_none() || (mu.is_finite() && matches!(norm, Norm::Sum)));
+        let t = (!entries.is_empty() || weights.is_some()).then_some(vars);
         let mut p = Program::new(vars + t.is_some() as usize);
         let gap = |i: usize, minus_t: bool| {
             let mut terms: Vec<(usize, f64)> = (0..m)
@@ -204,12 +229,19 @@ impl<'a> Formulation<'a> {
             }
             if c.has_r() {
                 let o = offset[i];
-                // Friction: (mu r_n [- t], r_t) in the cone; in 2D two half-planes.
-                let mut head = vec![(o, self.mu)];
+                // Friction: (mu r_n [- t | + w_i s], r_t) in the cone; in 2D two half-planes.
+                let mut head = vec![(o, mu)];
                 if stick.contains(&i) {
                     head.push((vars, -1.0));
                 }
-                if d == 2 {
+                if let Some(w) = weights {
+                    if w[i] != 0.0 {
+                        head.push((vars, w[i]));
+                    }
+                }
+                if mu.is_infinite() {
+                    // No friction limit: only r_n >= 0 (below).
+                } else if d == 2 {
                     for sign in [1.0, -1.0] {
                         let mut terms = head.clone();
                         terms.push((o + 1, -sign));
@@ -228,16 +260,34 @@ impl<'a> Formulation<'a> {
                 });
             }
         }
-        // sum r_n = 1.
-        let normal: Vec<(usize, f64)> = (0..m)
-            .filter(|&i| classes[i].has_r())
-            .map(|i| (offset[i], 1.0))
-            .collect();
-        p.zero(Affine::new(normal, -1.0));
+        match norm {
+            Norm::Sum => {
+                let normal: Vec<(usize, f64)> = (0..m)
+                    .filter(|&i| classes[i].has_r())
+                    .map(|i| (offset[i], 1.0))
+                    .collect();
+                p.zero(Affine::new(normal, -1.0));
+            }
+            Norm::Pressed(nodes) => {
+                for &i in nodes {
+                    debug_assert!(classes[i].has_r());
+                    p.nonneg(Affine::new(vec![(offset[i], 1.0)], -1.0));
+                }
+            }
+        }
         if let Some(t) = t {
-            // t <= 1 keeps the program bounded whatever the entries.
-            p.nonneg(Affine::new(vec![(t, -1.0)], 1.0));
-            p.minimise(&[(t, -1.0)]);
+            if weights.is_some() {
+                // Minimise s. It is bounded below: some node with w_i > 0 has
+                // w_i s >= -mu r_n_i >= -mu. The bound below only helps the solver.
+                let w_max = weights.map_or(1.0, |w| w.iter().fold(0.0f64, |a, &x| a.max(x)));
+                let floor = -(mu + 1.0) / w_max.max(1e-300) * m as f64;
+                p.nonneg(Affine::new(vec![(t, 1.0)], -floor));
+                p.minimise(&[(t, 1.0)]);
+            } else {
+                // t <= 1 keeps the program bounded whatever the entries.
+                p.nonneg(Affine::new(vec![(t, -1.0)], 1.0));
+                p.minimise(&[(t, -1.0)]);
+            }
         }
         let (answer, stats) = solve(&p);
         Counters::add(&self.counters.socps, stats.solves);
@@ -248,8 +298,12 @@ impl<'a> Formulation<'a> {
                 for i in (0..m).filter(|&i| classes[i].has_r()) {
                     r[d * i..d * i + d].copy_from_slice(&x[offset[i]..offset[i] + d]);
                 }
+                if let Norm::Pressed(_) = norm {
+                    let total: f64 = (0..m).map(|i| r[d * i]).sum();
+                    r.iter_mut().for_each(|x| *x /= total);
+                }
                 let value = t.map_or(0.0, |t| x[t]);
-                if t.is_some() && value > POSITIVE / NEAR && value < POSITIVE * NEAR {
+                if !entries.is_empty() && value > POSITIVE / NEAR && value < POSITIVE * NEAR {
                     Counters::add(&self.counters.near_degenerate, 1);
                 }
                 Decision::Yes { r, value }

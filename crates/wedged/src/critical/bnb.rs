@@ -1,0 +1,273 @@
+//! Branch and bound for `mu*` over contact sets, with an incumbent.
+//!
+//! A search node fixes some nodes to contact (`u_n = 0`, friction cone) or separated (`r = 0`,
+//! `u_n >= 0`) and relaxes the rest (`u_n >= 0`, friction cone, no complementarity). Its test
+//! is one feasibility program at `theta = incumbent (1 - tol)` (at `mu = infinity`, friction
+//! unlimited, while there is no incumbent): can every node in contact be pressed at once
+//! (`r_n_i >= 1` for all of them; `sum r_n = 1` when none is in contact)?
+//!
+//! - Infeasible, with a checked Farkas certificate: no solution of the subtree whose contact set
+//!   includes the fixed contact nodes exists at `theta` or below. A solution is found at the leaf
+//!   of its pressed nodes, and every relaxation on the way there contains it with those nodes
+//!   pressed, so the pruned subtree holds none of the solutions that decide `mu*`.
+//! - Feasible: branch on the node whose relaxed solution breaks complementarity most.
+//! - Undecided (the solver unsure): branch, never prune.
+//!
+//! A leaf (every node fixed) that passes the test gives a solution of its contact set with every
+//! node pressed; its threshold ([`super::Ctx::leaf_threshold`]) is below the incumbent and
+//! replaces it. Subtrees run in parallel (`rayon::join`) and share the incumbent.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
+use std::time::Duration;
+
+use super::{CriticalInfo, CriticalProgress, Ctx, Found, Leaf};
+use crate::enumerate::Control;
+use crate::patterns::program::{Class, Decision, Formulation, Goal, Norm};
+use crate::patterns::Undecided;
+
+/// Explored fractions are counted in units of `2^-FRACTION_BITS` of the tree.
+const FRACTION_BITS: usize = 62;
+
+struct Search<'a, 'b, 'c> {
+    ctx: &'a Ctx<'b, 'c>,
+    control: &'a Control<'a>,
+    /// The incumbent's `theta` as `f64` bits (`INFINITY` before the first leaf).
+    incumbent: AtomicU64,
+    /// The bar of this pass (see [`run`]) as `f64` bits.
+    bar: AtomicU64,
+    best: Mutex<Option<Leaf>>,
+    /// The least `lower` certified at a leaf.
+    leaf_lower: Mutex<f64>,
+    undecided: Mutex<Vec<Undecided>>,
+    visited: AtomicU64,
+    pruned: AtomicU64,
+    leaves: AtomicU64,
+    explored: AtomicU64,
+}
+
+impl Search<'_, '_, '_> {
+    fn form(&self) -> &Formulation<'_> {
+        self.ctx.form
+    }
+
+    fn close(&self, depth: usize) {
+        if depth <= FRACTION_BITS {
+            self.explored
+                .fetch_add(1u64 << (FRACTION_BITS - depth), Ordering::Relaxed);
+        }
+    }
+
+    fn incumbent(&self) -> f64 {
+        f64::from_bits(self.incumbent.load(Ordering::Relaxed))
+    }
+
+    /// The friction coefficient at which nodes are tested now.
+    fn level(&self) -> f64 {
+        let best = self.incumbent();
+        let bar = f64::from_bits(self.bar.load(Ordering::Relaxed));
+        if best.is_finite() {
+            (best * (1.0 - self.ctx.tol)).min(bar)
+        } else {
+            bar
+        }
+    }
+
+    fn offer(&self, leaf: Leaf) {
+        {
+            let mut low = self.leaf_lower.lock().expect("no panics while held");
+            *low = low.min(leaf.lower);
+        }
+        let mut best = self.best.lock().expect("no panics while held");
+        if best.as_ref().is_none_or(|b| leaf.theta < b.theta) {
+            self.incumbent
+                .store(leaf.theta.to_bits(), Ordering::Relaxed);
+            *best = Some(leaf);
+        }
+    }
+
+    fn undecided(&self, contact: Vec<bool>, reason: String) {
+        self.undecided
+            .lock()
+            .expect("no panics while held")
+            .push(Undecided { contact, reason });
+    }
+
+    fn explore(&self, classes: Vec<Class>, depth: usize) {
+        if self.control.must_stop(0) {
+            return;
+        }
+        let m = self.form().m;
+        let contact: Vec<usize> = (0..m).filter(|&i| classes[i] == Class::Contact).collect();
+        let free: Vec<usize> = (0..m).filter(|&i| classes[i] == Class::Free).collect();
+        if free.is_empty() && contact.is_empty() {
+            // Every node separated: only the trivial solution.
+            self.close(depth);
+            return;
+        }
+        let level = self.level();
+        let norm = if contact.is_empty() {
+            Norm::Sum
+        } else {
+            Norm::Pressed(&contact)
+        };
+        self.visited.fetch_add(1, Ordering::Relaxed);
+        let mut decision = self.form().decide_at(&classes, level, norm, Goal::Feasible);
+        if free.is_empty() && matches!(decision, Decision::Unsure(_)) {
+            // The same question cut the other way: any nontrivial solution of the leaf. Its
+            // infeasibility is the stronger certificate; a solution of it is as good a start.
+            decision = self
+                .form()
+                .decide_at(&classes, level, Norm::Sum, Goal::Feasible);
+        }
+        if free.is_empty() {
+            self.leaves.fetch_add(1, Ordering::Relaxed);
+            let set: Vec<bool> = classes.iter().map(|&c| c == Class::Contact).collect();
+            match decision {
+                Decision::No => {
+                    self.ctx.tally.certificates.fetch_add(1, Ordering::Relaxed);
+                    self.pruned.fetch_add(1, Ordering::Relaxed);
+                }
+                Decision::Unsure(why) => self.undecided(set, why),
+                Decision::Yes { r, .. } => match self.ctx.exact_point(&set, &r, level) {
+                    None => self.undecided(
+                        set,
+                        "the solver's point could not be made an exact solution".into(),
+                    ),
+                    Some((theta, p)) => {
+                        let cap = || self.level();
+                        match self.ctx.leaf_threshold(&set, theta, p, self.control, &cap) {
+                            Ok(Some(leaf)) => self.offer(leaf),
+                            Ok(None) => {
+                                self.pruned.fetch_add(1, Ordering::Relaxed);
+                            }
+                            Err(_) if self.control.stopped().is_some() => {}
+                            Err(why) => self.undecided(set, why),
+                        }
+                    }
+                },
+            }
+            self.close(depth);
+            return;
+        }
+        let witness = match decision {
+            Decision::No => {
+                self.ctx.tally.certificates.fetch_add(1, Ordering::Relaxed);
+                self.pruned.fetch_add(1, Ordering::Relaxed);
+                self.close(depth);
+                return;
+            }
+            Decision::Yes { r, .. } => Some(r),
+            Decision::Unsure(_) => None,
+        };
+        self.branch(classes, depth, witness, &free)
+    }
+
+    fn branch(&self, classes: Vec<Class>, depth: usize, witness: Option<Vec<f64>>, free: &[usize]) {
+        let branch = match &witness {
+            None => free[0],
+            Some(r) => {
+                let d = self.form().dim;
+                // (Measured: this rule against "most pressed first" on the plugs: 2D m = 16, 24:
+                // 0.9k and 7.6k nodes against 1.3k and 4.8k; 3D m = 20: 15k against 23k.)
+                let key = |i: usize| {
+                    let rn = r[d * i];
+                    let gap = self.form().gap_of(r, i).max(0.0);
+                    (gap * rn, rn)
+                };
+                free.iter()
+                    .copied()
+                    .max_by(|&a, &b| {
+                        let (x, y) = (key(a), key(b));
+                        x.0.total_cmp(&y.0).then(x.1.total_cmp(&y.1))
+                    })
+                    .unwrap_or(free[0])
+            }
+        };
+        let mut to_contact = classes.clone();
+        to_contact[branch] = Class::Contact;
+        let mut to_separated = classes;
+        to_separated[branch] = Class::Separated;
+        rayon::join(
+            || self.explore(to_contact, depth + 1),
+            || self.explore(to_separated, depth + 1),
+        );
+    }
+}
+
+/// The bars of the successive passes: the problem's own `mu`, then 4 and 16 times it, then no
+/// bar. A pass tests every node at `min(bar, incumbent (1 - tol))`; a pass that finds no leaf
+/// has certified the whole tree infeasible at its bar, so `mu* > bar`, and the next pass starts
+/// over with the next bar. The last pass, at `mu = infinity`, finding nothing certifies that no
+/// friction coefficient wedges the body. (A bar near `mu*` saves most of the work of the first
+/// dive: on the 2D plug with m = 16, 0.3 s against 1.0 s with no bar.)
+fn bars(mu: f64) -> [f64; 4] {
+    [mu, 4.0 * mu, 16.0 * mu, f64::INFINITY]
+}
+
+/// Runs the search; progress is reported from the calling thread every 200 ms.
+pub(super) fn run(
+    ctx: &Ctx,
+    info: &mut CriticalInfo,
+    progress: &dyn Fn(CriticalProgress),
+    control: &Control,
+) -> Found {
+    let search = Search {
+        ctx,
+        control,
+        incumbent: AtomicU64::new(f64::INFINITY.to_bits()),
+        bar: AtomicU64::new(f64::INFINITY.to_bits()),
+        best: Mutex::new(None),
+        leaf_lower: Mutex::new(f64::INFINITY),
+        undecided: Mutex::new(Vec::new()),
+        visited: AtomicU64::new(0),
+        pruned: AtomicU64::new(0),
+        leaves: AtomicU64::new(0),
+        explored: AtomicU64::new(0),
+    };
+    let (finished, wait) = std::sync::mpsc::channel::<()>();
+    let report = |search: &Search| {
+        let best = search.incumbent();
+        progress(CriticalProgress {
+            explored: search.explored.load(Ordering::Relaxed) as f64 / (1u64 << 62) as f64,
+            upper: best.is_finite().then_some(best),
+        });
+    };
+    std::thread::scope(|scope| {
+        scope.spawn(|| {
+            for bar in bars(ctx.form.mu) {
+                search.bar.store(bar.to_bits(), Ordering::Relaxed);
+                search.explored.store(0, Ordering::Relaxed);
+                search.explore(vec![Class::Free; ctx.form.m], 0);
+                let found = search.best.lock().map_or(true, |b| b.is_some());
+                if found || control.stopped().is_some() {
+                    break;
+                }
+            }
+            let _ = finished.send(());
+        });
+        while let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
+            wait.recv_timeout(Duration::from_millis(200))
+        {
+            report(&search);
+        }
+    });
+    report(&search);
+    info.nodes_visited = search.visited.into_inner();
+    info.pruned_infeasible = search.pruned.into_inner();
+    info.leaves_solved = search.leaves.into_inner();
+    let best = search.best.into_inner().unwrap_or(None);
+    let leaf_lower = search.leaf_lower.into_inner().unwrap_or(f64::INFINITY);
+    // Every prune of the last pass was at min(bar, incumbent (1 - tol)) or above.
+    let bar = f64::from_bits(search.bar.into_inner());
+    let lower = best.as_ref().map_or(0.0, |b| {
+        (b.theta * (1.0 - ctx.tol)).min(leaf_lower).min(bar)
+    });
+    Found {
+        best,
+        lower,
+        thresholds: Vec::new(),
+        undecided: search.undecided.into_inner().unwrap_or_default(),
+        stop: None,
+    }
+}

@@ -1,0 +1,721 @@
+//! The critical friction coefficient (MISSION section 6): the least `mu*` for which the wedged
+//! problem has a nontrivial solution, as a **global** optimum with a bracket `[lower, upper]`.
+//!
+//! `upper` comes with a witness: a solution of WP at `mu = upper`, checked here against WP.
+//! `lower` is justified by certificates: every part of the search space was shown infeasible at
+//! some friction coefficient `>= lower` by a checked Farkas certificate of the conic solver
+//! ([`crate::socp`]). Feasibility is monotone in `mu` (the friction cones only grow), so one
+//! certificate at `mu` covers every smaller `mu`.
+//!
+//! Every nontrivial solution `(u, r)` has a *contact set* `A` (its pressed nodes) and lies in the
+//! *leaf* of `A`: `u_n = 0` and `r` in the friction cone on `A`, `r = 0` and `u_n >= 0` off `A`.
+//! Every point of a leaf solves WP (complementarity holds by construction), so `mu*` is the
+//! least of the leaves' thresholds, and a leaf's threshold
+//!
+//! ```text
+//! mu_A = min { max_{i in A, r_n_i > 0} ||r_t_i|| / r_n_i  :  (u, r) in the leaf of A, sum r_n = 1 }
+//! ```
+//!
+//! is a generalised fractional program (linear-fractional in 2D). It is found by the
+//! Dinkelbach-type method of Crouzeix, Ferland and Schaible (their second method): from a
+//! feasible point with ratio `theta`, minimise `s` subject to `||r_t_i|| <= theta r_n_i + w_i s`
+//! (`w` the pressures of that point); the optimum's ratio is the next `theta`. Where the
+//! pressures stay away from zero it converges superlinearly (their analysis); where it stalls
+//! (a node whose pressure vanishes at the optimum), probes below `theta` and then bisection take
+//! over ([`Ctx::leaf_threshold`]). Each point is made an exact solution of the leaf (projected
+//! onto its equalities) before its ratio is taken, so `upper` is the ratio of an actual
+//! solution. Every probe found infeasible carries a checked Farkas certificate; the bracket is
+//! narrowed to `tol` or until the solver's feasibility resolution (about 1e-7 relative) stops
+//! it, and the bracket reported is the one certified.
+//!
+//! Three methods ([`CriticalMethod`]):
+//! - `bnb` (`bnb.rs`): branch and bound over contact sets with an incumbent; a subtree is
+//!   pruned when its relaxation cannot press its contact nodes at `min(bar, incumbent (1 -
+//!   tol))` (certified infeasible). The bars of successive passes are the problem's `mu`, 4 and
+//!   16 times it, and `infinity` (friction unlimited): a tree pruned entirely there proves that
+//!   no friction coefficient wedges the body.
+//! - `enumerate` (`enumerate.rs`), the seed's method: the maximal patterns at a large `mu`,
+//!   then each one's threshold; also gives the per-pattern thresholds of `wedged sweep`.
+//! - `faces` (`faces.rs`): every contact set, each threshold by plain bisection: the test
+//!   baseline.
+
+mod bnb;
+mod enumerate;
+mod faces;
+
+use std::fmt;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::Instant;
+
+use nalgebra::DMatrix;
+
+use crate::enumerate::{ContactPattern, Control, EnumerateError, Limits, NodeStatus, Stop};
+use crate::patterns::program::{Class, Counters, Decision, Formulation, Goal, Norm};
+use crate::patterns::Undecided;
+use crate::problem::Problem;
+
+/// The most nodes [`CriticalMethod::Faces`] accepts.
+pub const CRITICAL_FACES_MAX_NODES: usize = 12;
+
+/// The default relative width of the bracket.
+pub const DEFAULT_TOL: f64 = 1e-9;
+
+/// The loosest bracket a leaf's certificate may fall back to before the leaf is undecided.
+const LOOSEST: f64 = 1e-3;
+
+/// Programs per leaf threshold before it is given up as undecided.
+const MAX_ROUNDS: usize = 400;
+
+/// How `mu*` is found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum CriticalMethod {
+    /// Branch and bound over contact sets with an incumbent. The default.
+    #[default]
+    Bnb,
+    /// The seed's method: enumerate the maximal patterns at a large `mu`, then take the least of
+    /// their thresholds.
+    Enumerate,
+    /// Every contact set, each threshold by bisection (a test baseline, `m <= 12`).
+    Faces,
+}
+
+impl CriticalMethod {
+    /// The name used on the command line and in JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            CriticalMethod::Bnb => "bnb",
+            CriticalMethod::Enumerate => "enumerate",
+            CriticalMethod::Faces => "faces",
+        }
+    }
+}
+
+impl fmt::Display for CriticalMethod {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Tuning of a critical-coefficient run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CriticalSettings {
+    /// The method. Default [`CriticalMethod::Bnb`].
+    pub method: CriticalMethod,
+    /// The relative width asked of the bracket: `upper - lower <= tol * upper`. Default `1e-9`,
+    /// in `[1e-12, 0.1]`. The solver may not certify that close; see
+    /// [`CriticalInfo::tol_achieved`].
+    pub tol: f64,
+    /// Bounds on the run (time and the cancel flag; rays and memory do not apply).
+    pub limits: Limits,
+}
+
+impl Default for CriticalSettings {
+    fn default() -> Self {
+        CriticalSettings {
+            method: CriticalMethod::Bnb,
+            tol: DEFAULT_TOL,
+            limits: Limits::default(),
+        }
+    }
+}
+
+/// What a run found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CriticalStatus {
+    /// `mu*` is bracketed and a witness exists at `upper`.
+    Wedged,
+    /// No friction coefficient gives a nontrivial solution: the whole search was certified
+    /// infeasible with the friction limit removed (`bnb`, `faces`).
+    Never,
+    /// The run stopped early or some programs stayed undecided: `upper`, when present, is
+    /// still a checked witness, but `lower` is not certified.
+    Incomplete(Stop),
+}
+
+impl CriticalStatus {
+    /// `"wedged"`, `"never"` or `"incomplete"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            CriticalStatus::Wedged => "wedged",
+            CriticalStatus::Never => "never",
+            CriticalStatus::Incomplete(_) => "incomplete",
+        }
+    }
+}
+
+/// A solution of WP at `mu = upper`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CriticalWitness {
+    /// Displacements, `dim*m`, local frames.
+    pub u: Vec<f64>,
+    /// Reactions, `dim*m`, `sum r_n = 1`.
+    pub r: Vec<f64>,
+    /// Per node at `mu = upper`: separated, grazing, stick, or slip (the nodes whose ratio
+    /// `||r_t|| / r_n` equals `upper`).
+    pub status: Vec<NodeStatus>,
+    /// The sign pattern of the witness.
+    pub pattern: Vec<ContactPattern>,
+}
+
+/// One maximal pattern of the enumeration at a large `mu` and its own threshold
+/// ([`CriticalMethod::Enumerate`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PatternThreshold {
+    /// The pattern at the enumerated `mu` ([`CriticalInfo::mu_enumerated`]).
+    pub pattern: Vec<ContactPattern>,
+    /// The least `mu` at which a solution of the pattern's closed piece exists (the upper end of
+    /// its bracket).
+    pub threshold: f64,
+    /// The certified lower end of its bracket.
+    pub lower: f64,
+}
+
+/// Diagnostics of a run.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CriticalInfo {
+    /// The method's name.
+    pub method: &'static str,
+    /// Search nodes whose relaxation was solved (bnb).
+    pub nodes_visited: u64,
+    /// Subtrees (or contact sets, faces) pruned by a certified infeasibility.
+    pub pruned_infeasible: u64,
+    /// Contact sets whose threshold was computed (bnb: leaves reached, each tested and, when
+    /// feasible, its threshold computed).
+    pub leaves_solved: u64,
+    /// Dinkelbach steps (programs minimising the slack).
+    pub dinkelbach_steps: u64,
+    /// Bisection steps (faces).
+    pub bisection_steps: u64,
+    /// Farkas certificates of infeasibility, checked (every prune and every leaf's lower end).
+    pub certificates: u64,
+    /// Certificates that had to be taken further below a threshold than `tol` asked.
+    pub loosened: u64,
+    /// The relative width of the bracket actually certified (`(upper - lower) / upper`).
+    pub tol_achieved: f64,
+    /// The friction coefficient at which the patterns were enumerated (enumerate).
+    pub mu_enumerated: Option<f64>,
+    /// Maximal patterns enumerated there (enumerate).
+    pub patterns_enumerated: u64,
+    /// Conic programs solved (retries included).
+    pub socps: u64,
+    /// Programs solved a second time with tighter settings.
+    pub retries: u64,
+    /// Programs the solver left undecided after its retry.
+    pub uncertain: u64,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+}
+
+/// The result of [`critical`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Critical {
+    /// Wedged (bracketed), never, or incomplete.
+    pub status: CriticalStatus,
+    /// `upper` when the status is [`CriticalStatus::Wedged`]: the least friction coefficient at
+    /// which a checked solution was found; the true `mu*` lies in `[lower, upper]`.
+    pub mu_critical: Option<f64>,
+    /// The certified lower end (none when incomplete or never).
+    pub lower: Option<f64>,
+    /// The upper end: the ratio of the witness.
+    pub upper: Option<f64>,
+    /// A solution of WP at `mu = upper`.
+    pub witness: Option<CriticalWitness>,
+    /// Per maximal pattern, its own threshold (enumerate; sorted by threshold).
+    pub thresholds: Vec<PatternThreshold>,
+    /// Contact sets the solver could not decide.
+    pub undecided: Vec<Undecided>,
+    /// Diagnostics.
+    pub info: CriticalInfo,
+}
+
+/// Where a running search is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CriticalProgress {
+    /// The explored fraction of the search, in `[0, 1]`.
+    pub explored: f64,
+    /// The best friction coefficient with a witness so far.
+    pub upper: Option<f64>,
+}
+
+/// Computes the critical friction coefficient of a 2D or 3D problem. The problem's own `mu` is a
+/// starting guess: the first bar of [`CriticalMethod::Bnb`], the first `mu` to enumerate at for
+/// [`CriticalMethod::Enumerate`]; [`CriticalMethod::Faces`] ignores it.
+pub fn critical(
+    problem: &Problem,
+    settings: &CriticalSettings,
+) -> Result<Critical, EnumerateError> {
+    critical_with_control(problem, settings, &|_| {}, &AtomicBool::new(false))
+}
+
+/// [`critical`] with progress reports (from the calling thread) and a cancellation flag.
+pub fn critical_with_control(
+    problem: &Problem,
+    settings: &CriticalSettings,
+    progress: &dyn Fn(CriticalProgress),
+    cancel: &AtomicBool,
+) -> Result<Critical, EnumerateError> {
+    if !(1e-12..=0.1).contains(&settings.tol) {
+        return Err(EnumerateError::InvalidSettings(format!(
+            "the tolerance of mu* must be in [1e-12, 0.1], got {}",
+            settings.tol
+        )));
+    }
+    if settings.method == CriticalMethod::Faces && problem.nodes() > CRITICAL_FACES_MAX_NODES {
+        return Err(EnumerateError::InvalidSettings(format!(
+            "the faces method tries all 2^m contact sets; m = {} is more than its limit of \
+             {CRITICAL_FACES_MAX_NODES} (use bnb)",
+            problem.nodes()
+        )));
+    }
+    let start = Instant::now();
+    let control = Control::new(settings.limits, cancel);
+    let form = Formulation::new(problem);
+    let ctx = Ctx {
+        form: &form,
+        tol: settings.tol,
+        tally: Tally::default(),
+    };
+    let mut info = CriticalInfo {
+        method: settings.method.name(),
+        ..CriticalInfo::default()
+    };
+    let found = if control.must_stop(0) {
+        Found::default()
+    } else {
+        match settings.method {
+            CriticalMethod::Bnb => bnb::run(&ctx, &mut info, progress, &control),
+            CriticalMethod::Faces => faces::run(&ctx, &mut info, progress, &control),
+            CriticalMethod::Enumerate => {
+                enumerate::run(&ctx, &mut info, progress, settings.limits, cancel, &control)?
+            }
+        }
+    };
+    let c = &form.counters;
+    info.socps = Counters::get(&c.socps);
+    info.retries = Counters::get(&c.retries);
+    info.uncertain = Counters::get(&c.uncertain);
+    let t = &ctx.tally;
+    info.dinkelbach_steps = t.dinkelbach.load(Ordering::Relaxed);
+    info.bisection_steps += t.bisection.load(Ordering::Relaxed);
+    info.certificates = t.certificates.load(Ordering::Relaxed);
+    info.loosened = t.loosened.load(Ordering::Relaxed);
+    let stop = found
+        .stop
+        .or_else(|| control.stopped())
+        .or_else(|| (!found.undecided.is_empty()).then_some(Stop::Undecided));
+    let witness = match &found.best {
+        Some(best) => Some(witness_of(&form, best)?),
+        None => None,
+    };
+    let upper = found.best.as_ref().map(|b| b.theta);
+    let (status, lower) = match (stop, upper) {
+        (Some(s), _) => (CriticalStatus::Incomplete(s), None),
+        (None, None) => (CriticalStatus::Never, None),
+        (None, Some(_)) => (CriticalStatus::Wedged, Some(found.lower)),
+    };
+    if let (Some(l), Some(u)) = (lower, upper) {
+        info.tol_achieved = (u - l) / u;
+    }
+    info.seconds = start.elapsed().as_secs_f64();
+    let mut thresholds = found.thresholds;
+    thresholds.sort_by(|a, b| {
+        a.threshold
+            .total_cmp(&b.threshold)
+            .then(a.pattern.cmp(&b.pattern))
+    });
+    Ok(Critical {
+        status,
+        mu_critical: (status == CriticalStatus::Wedged)
+            .then_some(upper)
+            .flatten(),
+        lower,
+        upper,
+        witness,
+        thresholds,
+        undecided: found.undecided,
+        info,
+    })
+}
+
+/// What a method hands back.
+#[derive(Default)]
+pub(crate) struct Found {
+    /// The best leaf.
+    pub best: Option<Leaf>,
+    /// The certified lower end (meaningful with a best leaf and no stop).
+    pub lower: f64,
+    pub thresholds: Vec<PatternThreshold>,
+    pub undecided: Vec<Undecided>,
+    /// A reason the method stopped on its own (enumerate: the enumeration's).
+    pub stop: Option<Stop>,
+}
+
+/// Counters of the threshold computations.
+#[derive(Default)]
+pub(crate) struct Tally {
+    pub dinkelbach: AtomicU64,
+    pub bisection: AtomicU64,
+    pub certificates: AtomicU64,
+    pub loosened: AtomicU64,
+}
+
+/// What every method shares.
+pub(crate) struct Ctx<'a, 'b> {
+    pub form: &'a Formulation<'b>,
+    pub tol: f64,
+    pub tally: Tally,
+}
+
+/// A contact set's threshold: the ratio `theta` of a solution `r` of its leaf, and a friction
+/// coefficient `lower` at which the leaf was certified infeasible.
+#[derive(Debug, Clone)]
+pub(crate) struct Leaf {
+    pub contact: Vec<bool>,
+    pub theta: f64,
+    pub r: Vec<f64>,
+    pub lower: f64,
+}
+
+/// The classes of the leaf of a contact set.
+pub(crate) fn leaf_classes(contact: &[bool]) -> Vec<Class> {
+    contact
+        .iter()
+        .map(|&c| if c { Class::Contact } else { Class::Separated })
+        .collect()
+}
+
+/// A pressure below this share of the largest one (with `sum r_n = 1`) is taken as zero when a
+/// solver point is made exact: far below the solver's accuracy.
+const DROP: f64 = 1e-9;
+
+/// A pressure below this share of the largest may be dropped when it spoils an exact point
+/// ([`Ctx::exact_point`]).
+const SMALL: f64 = 1e-4;
+
+/// A scaled gap off the contact set below this is closed exactly when a solver point is made
+/// exact: the solver's accuracy, far below [`crate::patterns::program::POSITIVE`].
+const CLOSED: f64 = 1e-8;
+
+impl Ctx<'_, '_> {
+    /// Makes a solver point of the leaf of `contact`, solved at friction coefficient `target`
+    /// (`INFINITY` for none), exact: nodes with a negligible pressure get `r = 0`, the rest is
+    /// projected (least change) onto the leaf's equalities `u_n_i = 0`, `i` in the contact set
+    /// (and the gaps the solver left closed), and rescaled to `sum r_n = 1`. Returns its ratio
+    /// `max ||r_t_i|| / r_n_i` and the point, or `None` when the projected point leaves the leaf
+    /// (a gap open below zero beyond round-off).
+    ///
+    /// A node whose small pressure the solver should have left at zero (it only carries the
+    /// solver's round-off) can spoil the point: after projection its pressure is negative, or
+    /// its ratio exceeds `target`. Such a node, if its pressure is below [`SMALL`] of the
+    /// largest, is dropped too (`r = 0`, its gap stays closed) and the projection redone.
+    pub(crate) fn exact_point(
+        &self,
+        contact: &[bool],
+        r: &[f64],
+        target: f64,
+    ) -> Option<(f64, Vec<f64>)> {
+        let f = self.form;
+        let (d, m) = (f.dim, f.m);
+        let top = (0..m).map(|i| r[d * i]).fold(0.0f64, f64::max);
+        if top <= 0.0 {
+            return None;
+        }
+        let mut pressed: Vec<usize> = (0..m)
+            .filter(|&i| contact[i] && r[d * i] > DROP * top)
+            .collect();
+        // The leaf's equalities, and the gaps off the contact set that the solver left at zero
+        // (within its accuracy, possibly a little negative): those are closed exactly too.
+        let rows: Vec<usize> = (0..m)
+            .filter(|&i| contact[i] || f.gap_of(r, i) < CLOSED)
+            .collect();
+        loop {
+            let out = self.project(r, &pressed, &rows)?;
+            let ratio = |j: usize| tangential(&out, d, j) / out[d * j];
+            let bad = pressed
+                .iter()
+                .copied()
+                .filter(|&j| out[d * j] <= 0.0 || ratio(j) > target * (1.0 + 1e-9))
+                .min_by(|&a, &b| r[d * a].total_cmp(&r[d * b]));
+            match bad {
+                Some(j) if r[d * j] < SMALL * top && pressed.len() > 1 => {
+                    pressed.retain(|&i| i != j);
+                }
+                _ => {
+                    if pressed.iter().any(|&j| out[d * j] <= 0.0) {
+                        return None;
+                    }
+                    // Gaps off the contact set stay open or closed (round-off allowed: scaled
+                    // gaps are of order one).
+                    if (0..m).any(|i| !contact[i] && f.gap_of(&out, i) < -1e-12) {
+                        return None;
+                    }
+                    let theta = pressed.iter().map(|&j| ratio(j)).fold(0.0f64, f64::max);
+                    return Some((theta, out));
+                }
+            }
+        }
+    }
+
+    /// The reactions of `pressed` in `r`, projected onto `u_n_i = 0` for `i` in `rows`,
+    /// normalised (`None` when nothing is left).
+    fn project(&self, r: &[f64], pressed: &[usize], rows: &[usize]) -> Option<Vec<f64>> {
+        let f = self.form;
+        let (d, m) = (f.dim, f.m);
+        if pressed.is_empty() {
+            return None;
+        }
+        let mut x: Vec<f64> = pressed
+            .iter()
+            .flat_map(|&j| (0..d).map(move |c| r[d * j + c]))
+            .collect();
+        let gap = f.problem.compliance();
+        let a = DMatrix::from_fn(rows.len(), x.len(), |row, col| {
+            gap[(d * rows[row], d * pressed[col / d] + col % d)]
+        });
+        if !rows.is_empty() {
+            // Two rounds of least-change projection x -= A^+ (A x).
+            let svd = a.clone().svd(true, true);
+            for _ in 0..2 {
+                let ax = &a * nalgebra::DVector::from_column_slice(&x);
+                let dx = svd.solve(&ax, 1e-13 * svd.singular_values.max()).ok()?;
+                x.iter_mut().zip(dx.iter()).for_each(|(v, dv)| *v -= dv);
+            }
+        }
+        let mut out = vec![0.0; d * m];
+        for (k, &j) in pressed.iter().enumerate() {
+            out[d * j..d * j + d].copy_from_slice(&x[d * k..d * k + d]);
+        }
+        let total: f64 = (0..m).map(|i| out[d * i]).sum();
+        if total <= 0.0 || !total.is_finite() {
+            return None;
+        }
+        out.iter_mut().for_each(|v| *v /= total);
+        Some(out)
+    }
+
+    /// The threshold of the leaf of `contact`, from a solution `r` of it at ratio `hi`, or
+    /// `None` when the leaf is certified infeasible at `cap()` (the caller's current bar, read
+    /// afresh each step; `INFINITY` for none).
+    ///
+    /// The bracket `[lo, hi]` starts at `[0, hi]` (at `mu = 0` no nontrivial solution exists:
+    /// `r_t = 0` makes `u_n . r_n = r_n^T K^-1_nn r_n > 0`). Each round either takes a
+    /// Dinkelbach step from `hi` (while they improve), or tests feasibility at a probe: first
+    /// just below `hi` (`hi (1 - gap)`, `gap` from `tol` growing tenfold while the probes are
+    /// feasible), then, once a probe is certified infeasible, halfway between `lo` and `hi`. A
+    /// feasible probe's exact point lowers `hi`; a feasible probe whose exact point does not
+    /// (the solver's resolution reached) ends the narrowing with the bracket certified so far.
+    pub(crate) fn leaf_threshold(
+        &self,
+        contact: &[bool],
+        hi: f64,
+        r: Vec<f64>,
+        control: &Control,
+        cap: &dyn Fn() -> f64,
+    ) -> Result<Option<Leaf>, String> {
+        let classes = leaf_classes(contact);
+        let (d, m) = (self.form.dim, self.form.m);
+        let (mut hi, mut r) = (hi, r);
+        let mut lo = 0.0f64;
+        let mut gap = self.tol;
+        let mut descend = true;
+        let better = |t: f64, than: f64| t < than * (1.0 - self.tol * 0.01);
+        let certified = |at: f64| {
+            self.tally.certificates.fetch_add(1, Ordering::Relaxed);
+            at
+        };
+        for _ in 0..MAX_ROUNDS {
+            if control.must_stop(0) {
+                return Err("stopped".into());
+            }
+            if hi - lo <= self.tol * hi {
+                break;
+            }
+            let bar = cap();
+            if bar < hi {
+                // Someone else found better: is this leaf still of interest?
+                match self
+                    .form
+                    .decide_at(&classes, bar, Norm::Sum, Goal::Feasible)
+                {
+                    Decision::No => {
+                        certified(bar);
+                        return Ok(None);
+                    }
+                    Decision::Yes { r: next, .. } => {
+                        if let Some((t, p)) = self.exact_point(contact, &next, bar) {
+                            if t < hi {
+                                (hi, r, descend) = (t, p, true);
+                                continue;
+                            }
+                        }
+                    }
+                    Decision::Unsure(_) => {}
+                }
+            }
+            if descend && hi > 0.0 {
+                let w: Vec<f64> = (0..m)
+                    .map(|i| if contact[i] { r[d * i] } else { 0.0 })
+                    .collect();
+                self.tally.dinkelbach.fetch_add(1, Ordering::Relaxed);
+                if let Decision::Yes { r: next, .. } =
+                    self.form
+                        .decide_at(&classes, hi, Norm::Sum, Goal::MinSlack(&w))
+                {
+                    if let Some((t, p)) = self.exact_point(contact, &next, hi) {
+                        if better(t, hi) {
+                            (hi, r) = (t, p);
+                            continue;
+                        }
+                    }
+                }
+                descend = false;
+            }
+            let probe = if lo > 0.0 {
+                0.5 * (lo + hi)
+            } else {
+                hi * (1.0 - gap)
+            };
+            match self
+                .form
+                .decide_at(&classes, probe, Norm::Sum, Goal::Feasible)
+            {
+                Decision::No => lo = certified(probe),
+                Decision::Yes { r: next, .. } => match self.exact_point(contact, &next, probe) {
+                    Some((t, p)) if t < hi && t >= lo => {
+                        (hi, r, descend) = (t, p, true);
+                        if lo == 0.0 {
+                            gap = (gap * 10.0).min(0.5);
+                        }
+                    }
+                    // Feasible by the solver's accuracy, no exact point below hi.
+                    _ if lo > 0.0 => break,
+                    _ => gap = (gap * 10.0).min(0.5),
+                },
+                Decision::Unsure(_) if lo > 0.0 => break,
+                Decision::Unsure(_) => gap = (gap * 10.0).min(0.5),
+            }
+        }
+        if lo == 0.0 || hi - lo > LOOSEST * hi {
+            return Err(format!(
+                "the solver could not certify the threshold {hi} of this contact set to within \
+                 {LOOSEST:e} (certified below {lo})"
+            ));
+        }
+        if hi - lo > self.tol * hi * 1.000001 {
+            self.tally.loosened.fetch_add(1, Ordering::Relaxed);
+        }
+        Ok(Some(Leaf {
+            contact: contact.to_vec(),
+            theta: hi,
+            r,
+            lower: lo,
+        }))
+    }
+}
+
+/// `||r_t_i||`.
+fn tangential(r: &[f64], d: usize, i: usize) -> f64 {
+    r[d * i + 1..d * i + d]
+        .iter()
+        .map(|x| x * x)
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// Two ratios within this relative distance of `upper` make the node slip.
+const SLIP_TOL: f64 = 1e-9;
+
+/// The witness of the best leaf, checked against WP at `mu = theta`.
+fn witness_of(form: &Formulation, best: &Leaf) -> Result<CriticalWitness, EnumerateError> {
+    let (d, m) = (form.dim, form.m);
+    let r = best.r.clone();
+    let u = form.problem.displacement(&r);
+    let theta = best.theta;
+    let mut status = Vec::with_capacity(m);
+    let mut pattern = Vec::with_capacity(m);
+    for i in 0..m {
+        let rn = r[d * i];
+        let (s, p) = if rn > 0.0 {
+            let rt = tangential(&r, d, i);
+            let s = if rt >= theta * rn * (1.0 - SLIP_TOL) {
+                match d {
+                    3 => NodeStatus::Slip,
+                    _ if r[d * i + 1] > 0.0 => NodeStatus::SlipPlus,
+                    _ => NodeStatus::SlipMinus,
+                }
+            } else {
+                NodeStatus::Stick
+            };
+            (s, ContactPattern::Contact)
+        } else if !best.contact[i] && form.gap_of(&r, i) > 1e-10 {
+            (NodeStatus::Separated, ContactPattern::Separated)
+        } else {
+            (NodeStatus::Grazing, ContactPattern::Grazing)
+        };
+        status.push(s);
+        pattern.push(p);
+    }
+    check_at(form.problem, theta, &u, &r).map_err(|why| {
+        EnumerateError::InvalidSettings(format!(
+            "the witness of mu* = {theta} failed its check, so no answer is given: {why}"
+        ))
+    })?;
+    Ok(CriticalWitness {
+        u,
+        r,
+        status,
+        pattern,
+    })
+}
+
+/// The relative accuracy of a witness's check.
+const CHECK_TOL: f64 = 1e-8;
+
+/// Checks `(u, r)` against WP at friction coefficient `mu`: `K u = r`, `sum r_n = 1`, `u_n >= 0`,
+/// `r_n >= 0`, `u_n r_n = 0` and `||r_t_i|| <= mu r_n_i`, relative to the terms involved.
+pub fn check_at(problem: &Problem, mu: f64, u: &[f64], r: &[f64]) -> Result<(), String> {
+    let (d, m) = (problem.dim(), problem.nodes());
+    let k = problem.stiffness();
+    let n = d * m;
+    for a in 0..n {
+        let (mut v, mut s) = (-r[a], r[a].abs());
+        for b in 0..n {
+            v += k[(a, b)] * u[b];
+            s += (k[(a, b)] * u[b]).abs();
+        }
+        if v.abs() > CHECK_TOL * s.max(f64::MIN_POSITIVE) {
+            return Err(format!(
+                "equilibrium fails in row {a}: residual {v:e} of {s:e}"
+            ));
+        }
+    }
+    let total: f64 = (0..m).map(|i| r[d * i]).sum();
+    if (total - 1.0).abs() > CHECK_TOL {
+        return Err(format!("sum r_n = {total}, not 1"));
+    }
+    let u_scale = u.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    for i in 0..m {
+        let (un, rn) = (u[d * i], r[d * i]);
+        let rt = tangential(r, d, i);
+        let node = i + 1;
+        if un < -CHECK_TOL * u_scale {
+            return Err(format!(
+                "node {node} penetrates the obstacle (u_n = {un:e})"
+            ));
+        }
+        if rn < 0.0 {
+            return Err(format!("node {node} pulls on the obstacle (r_n = {rn:e})"));
+        }
+        if rn > 0.0 && un.abs() > CHECK_TOL * u_scale {
+            return Err(format!(
+                "node {node} is pressed with an open gap (u_n = {un:e}, r_n = {rn:e})"
+            ));
+        }
+        if rt > mu * rn * (1.0 + 1e-12) + 1e-15 {
+            return Err(format!(
+                "node {node} is outside the friction cone at mu = {mu} (|r_t| = {rt:e}, r_n = {rn:e})"
+            ));
+        }
+    }
+    Ok(())
+}
