@@ -5,6 +5,7 @@
 //! problem files ([`problem_file`], [`mtx`]) and writes results ([`summary`], [`output`]).
 
 mod answer;
+mod critical_out;
 mod export;
 mod msh;
 mod mtx;
@@ -12,6 +13,7 @@ mod output;
 mod problem_file;
 mod summary;
 mod svg;
+mod sweep_svg;
 mod vtk;
 
 use std::cell::Cell;
@@ -31,11 +33,13 @@ use wedged::patterns::{
     enumerate_patterns_with_control, PatternMethod, PatternSettings, DEFAULT_PYRAMID_FACES,
 };
 use wedged::{
-    enumerate_with_control, EnumerateError, Limits, Method, Problem, Progress, Settings, Stop,
+    critical_with_control, enumerate_with_control, Critical, CriticalMethod, CriticalProgress,
+    CriticalSettings, CriticalStatus, EnumerateError, Limits, Method, Problem, Progress, Settings,
+    Stop,
 };
 
 use crate::answer::{Answer, Choice};
-use crate::output::JsonTarget;
+use crate::output::{JsonTarget, PendingFile};
 
 const EXIT_CODES: &str = "\
 Exit codes:
@@ -76,6 +80,16 @@ or a meshed body, condensed onto its contact nodes:
   # [[symmetry]]               # roller: zero displacement along the group's normal
   # group = \"axis\"";
 
+const CRITICAL_HELP: &str = "\
+The critical friction coefficient mu* is the least friction coefficient at which the body can stay
+wedged (a nontrivial equilibrium without load). It is reported as a bracket [lower, upper]: a
+wedged configuration exists at upper (checked against the wedged problem; mu* = upper), and none
+exists below lower (certified by checked infeasibility certificates of the conic solver). The
+width actually certified may be wider than --tol: the floating-point certificates reach about
+1e-7 relative, and the summary says so. \"never\" (certified: no friction coefficient wedges the
+body) is a result, exit code 0. The problem file's mu is not needed; --method enumerate starts
+its enumeration there (or at 1) and doubles it until something wedges.";
+
 /// Enumerate the wedged configurations of an elastic body in frictional contact with a rigid
 /// obstacle: every equilibrium without load in which the body stays deformed.
 #[derive(Debug, Parser)]
@@ -93,9 +107,87 @@ enum Command {
     /// Condense a meshed body onto its contact nodes and export the stiffness (Matrix Market).
     #[command(after_help = EXIT_CODES, after_long_help = format!("{PROBLEM_FILE}\n\n{EXIT_CODES}"))]
     Condense(CondenseArgs),
-    /// Run the built-in example: a 2D plug wedged in a V-notch, with JSON, VTU and SVG output.
+    /// Compute the critical friction coefficient mu*: the least mu at which the body can stay
+    /// wedged, with a certified bracket and a wedged configuration at its upper end.
+    #[command(
+        after_help = EXIT_CODES,
+        after_long_help = format!("{CRITICAL_HELP}\n\n{PROBLEM_FILE}\n\n{EXIT_CODES}")
+    )]
+    Critical(CriticalArgs),
+    /// Plot how many maximal patterns are realised against mu: each pattern's own threshold
+    /// (from the enumeration at a large mu), and mu*, the least of them.
+    #[command(
+        after_help = EXIT_CODES,
+        after_long_help = format!("{CRITICAL_HELP}\n\n{PROBLEM_FILE}\n\n{EXIT_CODES}")
+    )]
+    Sweep(SweepArgs),
+    /// Run the built-in example: a 2D plug wedged in a V-notch, with JSON, VTU and SVG output,
+    /// and its critical friction coefficient.
     #[command(after_help = EXIT_CODES)]
     Demo(DemoArgs),
+}
+
+#[derive(Debug, Args)]
+struct CriticalArgs {
+    /// The problem file (TOML; see --help for its format; its `mu` is optional).
+    problem: PathBuf,
+    /// Algorithm [default: bnb].
+    #[arg(long, value_name = "METHOD")]
+    method: Option<CriticalMethodArg>,
+    #[command(flatten)]
+    common: CriticalCommon,
+    #[command(flatten)]
+    json: JsonArg,
+}
+
+#[derive(Debug, Args)]
+struct SweepArgs {
+    /// The problem file (TOML; see --help for its format; its `mu`, when given, is where the
+    /// enumeration starts).
+    problem: PathBuf,
+    /// Write the step plot here (SVG, written atomically).
+    #[arg(long, value_name = "PLOT.svg")]
+    svg: PathBuf,
+    #[command(flatten)]
+    common: CriticalCommon,
+    #[command(flatten)]
+    json: JsonArg,
+}
+
+/// The options that `critical` and `sweep` share.
+#[derive(Debug, Args)]
+struct CriticalCommon {
+    /// Relative width asked of the bracket of mu*, from 1e-12 to 0.1 [default: 1e-9].
+    #[arg(long, value_name = "T", allow_negative_numbers = true)]
+    tol: Option<f64>,
+    /// Stop after this many seconds (the result is then marked incomplete; exit code 3).
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    time_limit: Option<f64>,
+}
+
+/// A [`CriticalMethod`] as a command-line value, named by its `name()`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct CriticalMethodArg(CriticalMethod);
+
+impl ValueEnum for CriticalMethodArg {
+    fn value_variants<'a>() -> &'a [Self] {
+        &[
+            CriticalMethodArg(CriticalMethod::Bnb),
+            CriticalMethodArg(CriticalMethod::Enumerate),
+            CriticalMethodArg(CriticalMethod::Faces),
+        ]
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        let help = match self.0 {
+            CriticalMethod::Bnb => "branch and bound over contact sets with an incumbent",
+            CriticalMethod::Enumerate => {
+                "the maximal patterns at a large mu, then each one's threshold (as `sweep`)"
+            }
+            CriticalMethod::Faces => "every contact set, each threshold by bisection (m <= 12)",
+        };
+        Some(PossibleValue::new(self.0.name()).help(help))
+    }
 }
 
 #[derive(Debug, Args)]
@@ -302,8 +394,24 @@ fn run(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Command::Enumerate(args) => run_enumerate(args),
         Command::Condense(args) => run_condense(args),
+        Command::Critical(args) => run_critical(args),
+        Command::Sweep(args) => run_sweep(args),
         Command::Demo(args) => run_demo(args),
     }
+}
+
+/// The limits of `--time-limit`.
+fn time_limits(time_limit: Option<f64>) -> Result<Limits, Failure> {
+    let mut limits = Limits::default();
+    if let Some(t) = time_limit {
+        if !(t.is_finite() && t >= 0.0) {
+            return Err(Failure::Input(format!(
+                "--time-limit must be a finite number of seconds >= 0, got {t}"
+            )));
+        }
+        limits.time_limit = Some(Duration::from_secs_f64(t));
+    }
+    Ok(limits)
 }
 
 fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
@@ -326,15 +434,7 @@ fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
             .map_err(|e| Failure::Input(format!("--mu: {e}")))?,
         None => loaded.problem,
     };
-    let mut limits = Limits::default();
-    if let Some(t) = args.time_limit {
-        if !(t.is_finite() && t >= 0.0) {
-            return Err(Failure::Input(format!(
-                "--time-limit must be a finite number of seconds >= 0, got {t}"
-            )));
-        }
-        limits.time_limit = Some(Duration::from_secs_f64(t));
-    }
+    let mut limits = time_limits(args.time_limit)?;
     limits.max_rays = args.max_rays;
     limits.max_memory = args.max_memory;
     let method = args.method.unwrap_or(if problem.dim() == 2 {
@@ -452,6 +552,223 @@ fn run_demo(args: DemoArgs) -> Result<(), Failure> {
             vtk: Some(dir),
             svg: Some(dir),
         },
+    )?;
+    // The same plug's mu*, by branch and bound.
+    let settings = CriticalSettings::default();
+    let result = run_critical_library(&problem, &settings, "demo")?;
+    let line = match critical_out::answer_line(&result, settings.tol) {
+        Some(answer) => format!("\ncritical friction coefficient: {answer}\n"),
+        None => format!(
+            "\ncritical friction coefficient: not found ({})\n",
+            match result.status {
+                CriticalStatus::Incomplete(stop) => stop.to_string(),
+                _ => "no answer".to_string(),
+            }
+        ),
+    };
+    write_stdout(&line)
+}
+
+/// What `critical` and `sweep` read and where they write.
+struct CriticalJob<'a> {
+    problem: Problem,
+    model: Option<Model>,
+    file_mu: Option<f64>,
+    settings: CriticalSettings,
+    source: String,
+    json: Option<&'a Path>,
+    svg: Option<&'a Path>,
+}
+
+/// Loads the problem of `critical` or `sweep` and checks the options (the library checks --tol).
+fn critical_job<'a>(
+    problem: &Path,
+    method: CriticalMethod,
+    common: &CriticalCommon,
+    json: Option<&'a Path>,
+    svg: Option<&'a Path>,
+) -> Result<CriticalJob<'a>, Failure> {
+    let limits = time_limits(common.time_limit)?;
+    let (loaded, mu_given) =
+        problem_file::load_for_critical(problem).map_err(|e| Failure::Input(e.to_string()))?;
+    Ok(CriticalJob {
+        file_mu: mu_given.then(|| loaded.problem.mu()),
+        problem: loaded.problem,
+        model: loaded.model,
+        settings: CriticalSettings {
+            method,
+            tol: common.tol.unwrap_or(wedged::critical::DEFAULT_TOL),
+            limits,
+        },
+        source: problem.display().to_string(),
+        json,
+        svg,
+    })
+}
+
+fn run_critical(args: CriticalArgs) -> Result<(), Failure> {
+    let method = args.method.map_or(CriticalMethod::Bnb, |m| m.0);
+    let job = critical_job(
+        &args.problem,
+        method,
+        &args.common,
+        args.json.json.as_deref(),
+        None,
+    )?;
+    report_critical(job)
+}
+
+fn run_sweep(args: SweepArgs) -> Result<(), Failure> {
+    let job = critical_job(
+        &args.problem,
+        CriticalMethod::Enumerate,
+        &args.common,
+        args.json.json.as_deref(),
+        Some(&args.svg),
+    )?;
+    report_critical(job)
+}
+
+/// Computes `mu*` and writes the summary, the JSON and (sweep) the plot. The JSON and SVG targets
+/// are opened before the run, so that an unwritable path fails before a long computation.
+fn report_critical(job: CriticalJob) -> Result<(), Failure> {
+    let CriticalJob {
+        problem,
+        model,
+        file_mu,
+        settings,
+        source,
+        json,
+        svg,
+    } = job;
+    let json = json
+        .map(JsonTarget::open)
+        .transpose()
+        .map_err(|e| Failure::Input(e.to_string()))?;
+    let svg = svg
+        .map(|path| PendingFile::open(path, "SVG file"))
+        .transpose()
+        .map_err(|e| Failure::Input(e.to_string()))?;
+    let result = run_critical_library(&problem, &settings, &source)?;
+    let json_text = json
+        .as_ref()
+        .map(|_| critical_out::to_json(&problem, &settings, &source, &result, model.as_ref()));
+    let incomplete = match result.status {
+        CriticalStatus::Incomplete(stop) => Some(stop),
+        _ => None,
+    };
+    let mut stdout_text = String::new();
+    let mut svg_line = String::new();
+    if let Some(target) = svg {
+        let path = target.path().display().to_string();
+        if incomplete.is_some() {
+            // Dropped uncommitted: its temporary file goes, and no plot claims anything.
+            svg_line = format!("the run is incomplete, so no plot was written to {path}\n");
+        } else {
+            target
+                .commit(sweep_svg::sweep_svg(&source, &result).as_bytes())
+                .map_err(|e| Failure::Input(e.to_string()))?;
+            svg_line = match result.status {
+                CriticalStatus::Never => format!(
+                    "the body never wedges, so the plot written to {path} says so instead of \
+                     plotting\n"
+                ),
+                _ if result.thresholds.is_empty() => {
+                    format!("no pattern thresholds to plot; {path} says why\n")
+                }
+                _ => format!("plot of the patterns realised against mu written to {path}\n"),
+            };
+        }
+    }
+    match (&json, &json_text) {
+        (Some(JsonTarget::Stdout), Some(text)) => stdout_text.push_str(text),
+        _ => {
+            let json_path = match &json {
+                Some(JsonTarget::File { path, .. }) => Some(path.as_path()),
+                _ => None,
+            };
+            if let Some(model) = &model {
+                stdout_text.push_str(&summary::model(&source, model));
+            }
+            stdout_text.push_str(&critical_out::render(
+                &problem, &settings, &source, file_mu, &result, json_path,
+            ));
+            stdout_text.push_str(&svg_line);
+        }
+    }
+    if let (Some(target @ JsonTarget::File { .. }), Some(text)) = (json, &json_text) {
+        target
+            .commit(text)
+            .map_err(|e| Failure::Input(e.to_string()))?;
+    }
+    write_stdout(&stdout_text)?;
+    match incomplete {
+        Some(stop) => Err(Failure::Incomplete(critical_incomplete_text(
+            &source, &result, stop,
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// The `incomplete: ...` line of an incomplete `critical` or `sweep` run.
+fn critical_incomplete_text(source: &str, result: &Critical, stop: Stop) -> String {
+    let found = match result.upper {
+        Some(upper) => format!(
+            "mu* <= {} (a checked wedged configuration), not certified from below",
+            critical_out::bound(upper, 10, critical_out::Round::Up)
+        ),
+        None => "no wedged configuration found, nothing claimed about mu*".to_string(),
+    };
+    if stop == Stop::Undecided {
+        format!(
+            "{source}: {stop} ({} undecided, listed in the summary and the JSON); {found}; the \
+             result is incomplete",
+            result.undecided.len()
+        )
+    } else {
+        format!("{source}: {stop}; {found}; the result is incomplete")
+    }
+}
+
+/// Runs the computation of `mu*` with the live progress line and sorts its errors into bad input
+/// and internal failures.
+fn run_critical_library(
+    problem: &Problem,
+    settings: &CriticalSettings,
+    source: &str,
+) -> Result<Critical, Failure> {
+    let start = std::time::Instant::now();
+    let live = io::stderr().is_terminal();
+    let shown = std::cell::Cell::new(false);
+    let progress = |p: CriticalProgress| {
+        if live && start.elapsed().as_secs_f64() > 1.0 {
+            eprint!(
+                "\r  {}   ",
+                critical_progress_text(p, start.elapsed().as_secs_f64())
+            );
+            shown.set(true);
+        }
+    };
+    let result = critical_with_control(problem, settings, &progress, &INTERRUPTED);
+    if shown.get() {
+        eprintln!();
+    }
+    result.map_err(|e| match e {
+        EnumerateError::InvalidSettings(m) => Failure::Input(format!("invalid option: {m}")),
+        e @ EnumerateError::UnsupportedDim(_) => Failure::Input(format!("{source}: {e}")),
+        e @ EnumerateError::Verification(_) => Failure::Internal(format!("{source}: {e}")),
+    })
+}
+
+/// The live progress line of `critical` and `sweep` (without its carriage return).
+fn critical_progress_text(p: CriticalProgress, seconds: f64) -> String {
+    let best = match p.upper {
+        Some(mu) => format!("best mu {}", svg::sig4(mu)),
+        None => "no wedged configuration yet".to_string(),
+    };
+    format!(
+        "explored {:.1}%, {best}, {seconds:.1} s",
+        100.0 * p.explored.clamp(0.0, 1.0)
     )
 }
 
@@ -774,6 +1091,35 @@ mod tests {
             "p.toml: the time limit of 2 s ran out with 0 maximal patterns found so far; the \
              result is incomplete"
         );
+    }
+
+    #[test]
+    fn critical_progress_names_the_best_mu() {
+        let p = CriticalProgress {
+            explored: 0.372,
+            upper: Some(1.23456),
+        };
+        assert_eq!(
+            critical_progress_text(p, 3.42),
+            "explored 37.2%, best mu 1.235, 3.4 s"
+        );
+        let p = CriticalProgress {
+            explored: 0.0,
+            upper: None,
+        };
+        assert_eq!(
+            critical_progress_text(p, 1.0),
+            "explored 0.0%, no wedged configuration yet, 1.0 s"
+        );
+    }
+
+    #[test]
+    fn critical_method_names_are_the_library_names() {
+        let names: Vec<String> = CriticalMethodArg::value_variants()
+            .iter()
+            .map(|m| m.to_possible_value().unwrap().get_name().to_string())
+            .collect();
+        assert_eq!(names, ["bnb", "enumerate", "faces"]);
     }
 
     #[test]

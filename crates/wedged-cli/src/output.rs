@@ -381,7 +381,12 @@ pub fn to_json(
     answer: &Answer,
     model: Option<&Model>,
 ) -> String {
-    let report = Report::new(problem, choice, answer, model);
+    layout(&Report::new(problem, choice, answer, model))
+}
+
+/// The JSON text of any report (this one's or `wedged critical`'s), in the shallow-pretty
+/// layout, ending with a newline.
+pub fn layout<T: Serialize>(report: &T) -> String {
     let mut buf = Vec::new();
     let mut ser = serde_json::Serializer::with_formatter(&mut buf, ShallowPretty::default());
     report
@@ -561,6 +566,54 @@ fn temp_beside(path: &Path) -> io::Result<NamedTempFile> {
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
     builder.tempfile_in(dir)
+}
+
+/// A file written atomically after a run (`wedged sweep --svg`): its temporary sibling is created
+/// before the run, so that an unwritable path fails before a long computation, and is renamed
+/// into place by [`PendingFile::commit`] (or removed when dropped uncommitted).
+#[derive(Debug)]
+pub struct PendingFile {
+    path: PathBuf,
+    temp: NamedTempFile,
+    what: &'static str,
+}
+
+impl PendingFile {
+    /// `what` names the file in errors ("SVG file").
+    pub fn open(path: &Path, what: &'static str) -> Result<PendingFile, WriteError> {
+        if path.is_dir() {
+            return Err(WriteError(format!(
+                "{}: is a directory, not a file name for the {what}",
+                path.display()
+            )));
+        }
+        let temp = temp_beside(path)
+            .map_err(|e| WriteError(format!("{}: cannot write the {what}: {e}", path.display())))?;
+        Ok(PendingFile {
+            path: path.to_path_buf(),
+            temp,
+            what,
+        })
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Writes `bytes` to the temporary file and renames it over the destination.
+    pub fn commit(self, bytes: &[u8]) -> Result<(), WriteError> {
+        let PendingFile {
+            path,
+            mut temp,
+            what,
+        } = self;
+        let fail =
+            |e: io::Error| WriteError(format!("{}: cannot write the {what}: {e}", path.display()));
+        temp.write_all(bytes).map_err(fail)?;
+        temp.as_file().sync_all().map_err(fail)?;
+        temp.persist(&path).map_err(|e| fail(e.error))?;
+        Ok(())
+    }
 }
 
 /// Writes `bytes` to `path` through a temporary sibling renamed into place, so that a reader

@@ -161,15 +161,30 @@ struct RawStiffness {
 /// Reads and validates the problem in the TOML file at `path`. With `mu_on_command_line` the
 /// file's `mu` is optional and a placeholder 1.0 stands for it (the caller replaces it).
 pub fn load(path: &Path, mu_on_command_line: bool) -> Result<Loaded, LoadError> {
-    let (raw, err) = read_raw(path)?;
     // With --mu on the command line the file's `mu` is not needed (and not read): the caller
     // replaces this placeholder with the command-line value, which the library validates.
-    let mu = if mu_on_command_line {
-        1.0
-    } else {
-        raw.mu.ok_or_else(|| {
+    load_with(path, if mu_on_command_line { Some(1.0) } else { None })
+}
+
+/// Reads and validates the problem in the TOML file at `path` for a computation of `mu*`, which
+/// needs no friction coefficient: the file's `mu`, when given (and then validated), else 1.0.
+/// Also returns whether the file gave `mu`.
+pub fn load_for_critical(path: &Path) -> Result<(Loaded, bool), LoadError> {
+    let (raw, _) = read_raw(path)?;
+    let given = raw.mu.is_some();
+    let loaded = load_with(path, if given { None } else { Some(1.0) })?;
+    Ok((loaded, given))
+}
+
+/// [`load`] with the friction coefficient to use instead of the file's (`None`: the file's,
+/// which must then be there).
+fn load_with(path: &Path, mu_instead: Option<f64>) -> Result<Loaded, LoadError> {
+    let (raw, err) = read_raw(path)?;
+    let mu = match mu_instead {
+        Some(mu) => mu,
+        None => raw.mu.ok_or_else(|| {
             err("missing `mu` (the friction coefficient, > 0; or pass --mu)".into())
-        })?
+        })?,
     };
     if raw.mesh.is_some() {
         if let Some(dim) = raw.dim {

@@ -30,9 +30,9 @@ const INFO_LIST_LIMIT: usize = 20;
 const STATUS_LEGEND: &str = "o separated, s stick, + slip+, - slip-, g grazing";
 /// The legend of 3D statuses: slip is on the round friction cone, in no particular direction.
 const STATUS_LEGEND_3D: &str = "o separated, s stick, ~ slip, g grazing";
-const PATTERN_LEGEND: &str = "C contact, o separated, g grazing";
+pub(crate) const PATTERN_LEGEND: &str = "C contact, o separated, g grazing";
 
-fn status_code(s: NodeStatus) -> char {
+pub(crate) fn status_code(s: NodeStatus) -> char {
     match s {
         NodeStatus::Separated => 'o',
         NodeStatus::Stick => 's',
@@ -44,7 +44,7 @@ fn status_code(s: NodeStatus) -> char {
 }
 
 /// The legend of the status characters of a `dim`-dimensional problem.
-fn status_legend(dim: usize) -> &'static str {
+pub(crate) fn status_legend(dim: usize) -> &'static str {
     if dim == 3 {
         STATUS_LEGEND_3D
     } else {
@@ -52,7 +52,7 @@ fn status_legend(dim: usize) -> &'static str {
     }
 }
 
-fn pattern_code(p: ContactPattern) -> char {
+pub(crate) fn pattern_code(p: ContactPattern) -> char {
     match p {
         ContactPattern::Contact => 'C',
         ContactPattern::Separated => 'o',
@@ -61,7 +61,7 @@ fn pattern_code(p: ContactPattern) -> char {
 }
 
 /// One character per node, a space after every ten.
-fn codes(chars: impl Iterator<Item = char>) -> String {
+pub(crate) fn codes(chars: impl Iterator<Item = char>) -> String {
     let mut s = String::new();
     for (i, c) in chars.enumerate() {
         if i > 0 && i % 10 == 0 {
@@ -73,11 +73,11 @@ fn codes(chars: impl Iterator<Item = char>) -> String {
 }
 
 /// Lines of the diagnostics are wrapped at this width.
-const WRAP: usize = 100;
+pub(crate) const WRAP: usize = 100;
 
 /// Writes `text` as lines of at most [`WRAP`] characters (words are not split), the first
 /// indented by `first`, the others by `rest` spaces.
-fn wrapped(out: &mut String, first: usize, rest: usize, text: &str) {
+pub(crate) fn wrapped(out: &mut String, first: usize, rest: usize, text: &str) {
     let mut line = " ".repeat(first);
     let mut empty = true;
     for word in text.split_whitespace() {
@@ -97,7 +97,7 @@ fn wrapped(out: &mut String, first: usize, rest: usize, text: &str) {
     out.push('\n');
 }
 
-fn plural(n: usize, one: &str, many: &str) -> String {
+pub(crate) fn plural(n: usize, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })
 }
 
@@ -513,7 +513,7 @@ pub(crate) fn ranges(indices: &[usize]) -> String {
     parts.join(" ")
 }
 
-fn seconds_text(s: f64) -> String {
+pub(crate) fn seconds_text(s: f64) -> String {
     if s >= 1.0 {
         format!("{s:.2} s")
     } else if s >= 1e-3 {

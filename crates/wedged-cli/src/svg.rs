@@ -52,8 +52,8 @@ const PAD: f64 = 18.0;
 const DISPLACEMENT_FRACTION: f64 = 0.08;
 /// The longest reaction arrow is this fraction of the body's size.
 const ARROW_FRACTION: f64 = 0.12;
-const FONT: &str = "DejaVu Sans, Helvetica, Arial, sans-serif";
-const INK: &str = "#222222";
+pub(crate) const FONT: &str = "DejaVu Sans, Helvetica, Arial, sans-serif";
+pub(crate) const INK: &str = "#222222";
 /// Reaction arrows.
 const ARROW: &str = "#111111";
 
@@ -165,7 +165,7 @@ pub(crate) fn sig4(v: f64) -> String {
 }
 
 /// A pixel coordinate, to 0.1 px.
-fn px(v: f64) -> String {
+pub(crate) fn px(v: f64) -> String {
     let s = trim_zeros(&format!("{v:.1}"));
     if s == "-0" {
         "0".to_string()
@@ -189,7 +189,7 @@ fn round3(v: f64) -> f64 {
 }
 
 /// Escapes text for XML content and attribute values.
-fn escape(text: &str) -> String {
+pub(crate) fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {

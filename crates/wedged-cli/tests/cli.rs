@@ -307,6 +307,11 @@ fn demo_runs_and_explains_itself() {
     assert!(text.contains("problem demo: dim 2, 12 nodes"), "{text}");
     assert!(text.contains("wedged configuration"), "{text}");
     assert!(text.contains("info: "), "{text}");
+    // And the plug's critical friction coefficient, last.
+    assert!(
+        text.contains("\ncritical friction coefficient: mu* = "),
+        "{text}"
+    );
     // It says where the files went, and they are there.
     assert!(text.contains(&out_dir), "{text}");
     let report: Value =
@@ -955,4 +960,356 @@ fn bad_time_limit() {
 
 fn json_stdout_any(out: &Output) -> Value {
     serde_json::from_slice(&out.stdout).expect("valid JSON on stdout")
+}
+
+// ---- the critical friction coefficient ----------------------------------------------------------
+
+/// Runs `critical` (or `sweep`) on a problem file with the given text, JSON to stdout; returns
+/// the output (the directory is kept alive by the caller through the returned value).
+fn critical_text(command: &str, toml: &str, extra: &[&str]) -> (Output, tempfile::TempDir) {
+    let dir = dir_with(&[("p.toml", toml)]);
+    let path = path_in(&dir, "p.toml");
+    let mut args = vec![command, path.as_str()];
+    args.extend_from_slice(extra);
+    (wedged(&args), dir)
+}
+
+/// The fixed keys of the `critical` JSON.
+fn check_critical_keys(report: &Value) {
+    let keys: Vec<&str> = report
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(String::as_str)
+        .collect();
+    let mut expected = vec![
+        "source",
+        "dim",
+        "nodes",
+        "method",
+        "status",
+        "complete",
+        "stopped",
+        "mu_critical",
+        "lower",
+        "upper",
+        "tol",
+        "tol_achieved",
+        "witness",
+        "pattern",
+        "thresholds",
+        "undecided",
+        "info",
+        "version",
+    ];
+    // `model` is there for a meshed body only.
+    if keys.contains(&"model") {
+        expected.push("model");
+    }
+    let mut keys = keys;
+    keys.sort_unstable();
+    expected.sort_unstable();
+    assert_eq!(keys, expected);
+    let info = report["info"].as_object().unwrap();
+    for key in [
+        "method",
+        "nodes_visited",
+        "pruned_infeasible",
+        "leaves_solved",
+        "dinkelbach_steps",
+        "bisection_steps",
+        "certificates",
+        "loosened",
+        "tol_achieved",
+        "mu_enumerated",
+        "patterns_enumerated",
+        "socps",
+        "retries",
+        "uncertain",
+        "seconds",
+    ] {
+        assert!(info.contains_key(key), "missing info.{key}: {info:?}");
+    }
+    assert_eq!(info.len(), 15, "{info:?}");
+}
+
+/// One node with `K_nn = 2, K_nt = 1, K_tt = 1`: `mu* = K_tt / |K_nt| = 1`.
+#[test]
+fn critical_of_one_node_is_its_closed_form() {
+    let toml = "dim = 2\nmu = 1.1\n[stiffness]\nrows = [[2.0, 1.0], [1.0, 1.0]]\n";
+    let (out, _dir) = critical_text("critical", toml, &["--json", "-"]);
+    let report = json_stdout(&out);
+    check_critical_keys(&report);
+    assert_eq!(report["status"], "wedged");
+    assert_eq!(report["complete"], true);
+    assert_eq!(report["method"], "bnb");
+    assert_eq!(report["tol"], 1e-9);
+    let mu = report["mu_critical"].as_f64().unwrap();
+    let (lower, upper) = (
+        report["lower"].as_f64().unwrap(),
+        report["upper"].as_f64().unwrap(),
+    );
+    assert!((mu - 1.0).abs() < 1e-6, "{mu}");
+    assert_eq!(mu, upper);
+    assert!(
+        lower <= 1.0 && 1.0 <= upper * (1.0 + 1e-12),
+        "[{lower}, {upper}]"
+    );
+    let width = report["tol_achieved"].as_f64().unwrap();
+    assert!((width - (upper - lower) / upper).abs() < 1e-12, "{width}");
+    let witness = &report["witness"];
+    let k = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 1.0]);
+    let (residual, r_n) =
+        residual_and_normal_sum(&k, 2, &floats(&witness["u"]), &floats(&witness["r"]));
+    assert!(
+        residual < 1e-9 && (r_n - 1.0).abs() < 1e-9,
+        "{residual} {r_n}"
+    );
+    assert_eq!(witness["pattern"], serde_json::json!(["contact"]));
+    assert_eq!(report["pattern"], serde_json::json!(["contact"]));
+    assert_eq!(witness["status"], serde_json::json!(["slip+"]));
+    assert_eq!(report["thresholds"], serde_json::json!([]));
+
+    // The summary gives the answer, the node and the diagnostics.
+    let (out, _dir) = critical_text("critical", toml, &[]);
+    assert_success(&out);
+    let text = stdout(&out);
+    assert!(text.contains("\nmu* = 1 (certified bracket ["), "{text}");
+    assert!(text.contains("slip+"), "{text}");
+    assert!(text.contains("SOCPs solved"), "{text}");
+}
+
+/// No coupling between the normal and the tangent: friction never holds a deformation.
+#[test]
+fn a_decoupled_body_never_wedges_and_that_is_a_result() {
+    let toml = "dim = 2\n[stiffness]\nrows = [[2.0, 0.0, 0.5, 0.0], [0.0, 1.0, 0.0, 0.3], \
+                [0.5, 0.0, 2.0, 0.0], [0.0, 0.3, 0.0, 1.0]]\n";
+    let (out, dir) = critical_text("critical", toml, &["--json", "-"]);
+    let report = json_stdout(&out);
+    check_critical_keys(&report);
+    assert_eq!(report["status"], "never");
+    assert_eq!(report["complete"], true);
+    for key in [
+        "mu_critical",
+        "lower",
+        "upper",
+        "tol_achieved",
+        "witness",
+        "pattern",
+    ] {
+        assert_eq!(report[key], Value::Null, "{key}");
+    }
+    let out = wedged(&["critical", &path_in(&dir, "p.toml")]);
+    assert_success(&out);
+    assert!(
+        stdout(&out).contains("No friction coefficient wedges this body (certified"),
+        "{}",
+        stdout(&out)
+    );
+    // sweep: the plot says so, and the run is still a success.
+    let svg = path_in(&dir, "never.svg");
+    let out = wedged(&["sweep", &path_in(&dir, "p.toml"), "--svg", &svg]);
+    assert_success(&out);
+    let text = fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg"), "{text}");
+    assert!(
+        text.contains("No friction coefficient wedges this body"),
+        "{text}"
+    );
+}
+
+#[test]
+fn critical_tolerance_out_of_range() {
+    for tol in ["0", "0.5", "nan"] {
+        let out = wedged(&["critical", &fixture("two_nodes.toml"), "--tol", tol]);
+        assert_bad_input(&out, &["tolerance", "mu*"]);
+    }
+}
+
+#[test]
+fn critical_by_faces_agrees_with_bnb() {
+    let mut brackets = Vec::new();
+    for method in ["bnb", "faces", "enumerate"] {
+        let report = json_stdout(&wedged(&[
+            "critical",
+            &fixture("coupled_array.toml"),
+            "--method",
+            method,
+            "--json",
+            "-",
+        ]));
+        assert_eq!(report["status"], "wedged", "{method}");
+        assert_eq!(report["info"]["method"], method);
+        let (lower, upper) = (
+            report["lower"].as_f64().unwrap(),
+            report["upper"].as_f64().unwrap(),
+        );
+        let (residual, r_n) = residual_and_normal_sum(
+            &coupled_k(),
+            2,
+            &floats(&report["witness"]["u"]),
+            &floats(&report["witness"]["r"]),
+        );
+        assert!(residual < 1e-9 && (r_n - 1.0).abs() < 1e-9, "{method}");
+        brackets.push((method, lower, upper));
+    }
+    // The certified brackets overlap and their ends agree to the solver's accuracy.
+    for &(m1, l1, u1) in &brackets {
+        for &(m2, l2, u2) in &brackets {
+            assert!(
+                l1 <= u2 * (1.0 + 1e-9),
+                "{m1} [{l1}, {u1}] vs {m2} [{l2}, {u2}]"
+            );
+            assert!((u1 - u2).abs() < 1e-6 * u1, "{m1} {u1} vs {m2} {u2}");
+        }
+    }
+}
+
+/// The 3D plug of the examples: no wedged configuration up to mu = 1.53, some at 1.535.
+#[test]
+fn critical_of_the_3d_plug() {
+    let report = json_stdout(&wedged(&[
+        "critical",
+        &Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../examples/plug3d.toml")
+            .display()
+            .to_string(),
+        "--json",
+        "-",
+    ]));
+    check_critical_keys(&report);
+    assert_eq!(report["dim"], 3);
+    assert_eq!(report["status"], "wedged");
+    let mu = report["mu_critical"].as_f64().unwrap();
+    assert!(1.53 < mu && mu < 1.535, "{mu}");
+    assert!(report["lower"].as_f64().unwrap() > 1.53);
+    assert_eq!(report["model"]["contact"].as_array().unwrap().len(), 6);
+    let status = report["witness"]["status"].as_array().unwrap();
+    assert_eq!(status.len(), 6);
+    assert!(status.iter().any(|s| s == "slip"), "{status:?}");
+    assert!(status
+        .iter()
+        .all(|s| ["separated", "stick", "slip", "grazing"].contains(&s.as_str().unwrap())));
+}
+
+/// A small 3D stiffness: the witness solves K u = r.
+#[test]
+fn critical_of_a_3d_stiffness() {
+    let (k, _dir, path) = random_3d(1.0, 3);
+    let report = json_stdout(&wedged(&["critical", &path, "--json", "-"]));
+    check_critical_keys(&report);
+    match report["status"].as_str().unwrap() {
+        "wedged" => {
+            let w = &report["witness"];
+            let (residual, r_n) =
+                residual_and_normal_sum(&k, 3, &floats(&w["u"]), &floats(&w["r"]));
+            assert!(residual < 1e-8 && (r_n - 1.0).abs() < 1e-8);
+        }
+        "never" => assert_eq!(report["witness"], Value::Null),
+        other => panic!("{other}"),
+    }
+}
+
+#[test]
+fn critical_stopped_by_the_time_limit_is_marked_incomplete() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = path_in(&dir, "out.json");
+    let out = wedged(&[
+        "critical",
+        &fixture("coupled_array.toml"),
+        "--time-limit",
+        "0",
+        "--json",
+        &json,
+    ]);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.starts_with("incomplete: ") && err.contains("time limit"),
+        "{err}"
+    );
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(stdout(&out).contains("INCOMPLETE"), "{}", stdout(&out));
+    let report: Value = serde_json::from_str(&fs::read_to_string(&json).unwrap()).unwrap();
+    check_critical_keys(&report);
+    assert_eq!(report["complete"], false);
+    assert_eq!(report["status"], "incomplete");
+    assert!(report["stopped"].as_str().unwrap().contains("time limit"));
+    assert_eq!(report["mu_critical"], Value::Null);
+    assert_eq!(report["lower"], Value::Null);
+    // sweep writes no plot then.
+    let svg = path_in(&dir, "plot.svg");
+    let out = wedged(&[
+        "sweep",
+        &fixture("coupled_array.toml"),
+        "--svg",
+        &svg,
+        "--time-limit",
+        "0",
+    ]);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    assert!(!Path::new(&svg).exists());
+    assert_eq!(
+        fs::read_dir(dir.path()).unwrap().count(),
+        1,
+        "no temporary file left"
+    );
+}
+
+#[test]
+fn sweep_plots_each_patterns_threshold() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = path_in(&dir, "plot.svg");
+    let json = path_in(&dir, "sweep.json");
+    let out = wedged(&[
+        "sweep",
+        &fixture("coupled_array.toml"),
+        "--svg",
+        &svg,
+        "--json",
+        &json,
+    ]);
+    assert_success(&out);
+    let report: Value = serde_json::from_str(&fs::read_to_string(&json).unwrap()).unwrap();
+    check_critical_keys(&report);
+    assert_eq!(report["method"], "enumerate");
+    assert_eq!(report["info"]["mu_enumerated"], 1.5);
+    let thresholds = report["thresholds"].as_array().unwrap();
+    // The fixture has 4 convex pieces at mu = 1.5.
+    assert_eq!(thresholds.len(), 4);
+    let values: Vec<f64> = thresholds
+        .iter()
+        .map(|t| t["threshold"].as_f64().unwrap())
+        .collect();
+    assert!(values.windows(2).all(|w| w[0] <= w[1]), "{values:?}");
+    assert!(values.iter().all(|&t| t <= 1.5));
+    for t in thresholds {
+        assert!(t["lower"].as_f64().unwrap() <= t["threshold"].as_f64().unwrap());
+    }
+    let mu = report["mu_critical"].as_f64().unwrap();
+    assert_eq!(mu, values[0]);
+    let text = stdout(&out);
+    assert!(text.contains("4 maximal patterns at mu = 1.5"), "{text}");
+    assert!(text.contains("\nmu* = "), "{text}");
+    assert!(text.contains(&svg), "{text}");
+    let plot = fs::read_to_string(&svg).unwrap();
+    assert!(
+        plot.starts_with("<svg") || plot.starts_with("<?xml"),
+        "{plot}"
+    );
+    assert!(plot.trim_end().ends_with("</svg>"), "{plot}");
+    assert!(plot.contains("mu* = 1.19"), "{plot}");
+    assert!(plot.contains("stroke-dasharray"), "{plot}");
+    assert_eq!(plot.matches("<circle").count(), 4, "{plot}");
+}
+
+#[test]
+fn sweep_needs_its_svg_path() {
+    let out = wedged(&["sweep", &fixture("two_nodes.toml")]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("--svg"), "{}", stderr(&out));
+    let dir = tempfile::tempdir().unwrap();
+    let svg = path_in(&dir, "no/such/dir/plot.svg");
+    let out = wedged(&["sweep", &fixture("two_nodes.toml"), "--svg", &svg]);
+    assert_bad_input(&out, &[&svg, "cannot write"]);
 }

@@ -1,0 +1,667 @@
+//! The result of `wedged critical` and `wedged sweep`: its JSON (fixed keys) and its summary.
+//!
+//! ```text
+//! { "source": "p.toml", "dim": 2, "nodes": 4, "method": "bnb" | "enumerate" | "faces",
+//!   "status": "wedged" | "never" | "incomplete", "complete": true, "stopped": null | "why",
+//!   "mu_critical": 1.78 | null, "lower": 1.78 | null, "upper": 1.78 | null,
+//!   "tol": 1e-9, "tol_achieved": 1e-7 | null,
+//!   "witness": { "u": [..], "r": [..], "status": ["stick", ..], "pattern": ["contact", ..] } | null,
+//!   "pattern": ["contact" | "separated" | "grazing", ..] | null,
+//!   "thresholds": [ { "pattern": [..], "threshold": 1.9, "lower": 1.9 } ],
+//!   "undecided": [ { "contact": [true | false, ..], "reason": ".." } ],
+//!   "info": { every field of wedged::CriticalInfo },
+//!   "model": { .. },                                   (meshed bodies only, as in `enumerate`)
+//!   "version": "0.1.0" }
+//! ```
+//!
+//! - `status` `wedged`: `mu_critical` = `upper`, a witness (a solution of the wedged problem at
+//!   `mu = upper`, checked) exists there, and no friction coefficient below `lower` wedges the
+//!   body (certified by checked Farkas certificates): the true `mu*` is in `[lower, upper]`.
+//!   `tol_achieved` = `(upper - lower) / upper`, the width actually certified, which may be wider
+//!   than `tol`, the width asked: the conic solver's certificates reach about 1e-7 relative.
+//! - `never`: certified that no friction coefficient gives a nontrivial wedged configuration;
+//!   `mu_critical`, `lower`, `upper`, `tol_achieved`, `witness` and `pattern` are `null`.
+//! - `incomplete` (`"complete": false`, `"stopped"` says why): a limit, Ctrl-C, or solver
+//!   programs left undecided (listed in `undecided`). `upper` and `witness` may still be there
+//!   (checked), but `mu_critical` and `lower` are `null`: nothing is certified from below.
+//!
+//! `thresholds` (method `enumerate`, and so `wedged sweep`) lists each maximal pattern of the
+//! enumeration at `info.mu_enumerated` with its own threshold (the least `mu` at which it is
+//! realised; `lower` the certified end of its bracket), sorted by threshold; it is empty for the
+//! other methods. `info.tol_achieved` is `null` when there is no bracket, like `tol_achieved`.
+//! Vectors are in the local node frames, normal first, with `sum r_n = 1`.
+
+use std::fmt::Write;
+use std::path::Path;
+
+use serde::Serialize;
+use wedged::fe::Model;
+use wedged::{
+    Critical, CriticalInfo, CriticalSettings, CriticalStatus, NodeStatus, PatternThreshold, Problem,
+};
+
+use crate::output::{ModelJson, UndecidedJson};
+use crate::summary::{
+    codes, pattern_code, plural, seconds_text, status_code, status_legend, wrapped, PATTERN_LEGEND,
+};
+use crate::svg::sig4;
+
+/// Witness nodes listed one per line; beyond, one character per node.
+const NODE_LINES_UP_TO: usize = 24;
+/// Thresholds listed before the rest are left to the JSON.
+const THRESHOLD_LIMIT: usize = 50;
+
+/// The whole JSON document of `wedged critical` (and `wedged sweep`).
+#[derive(Debug, Serialize)]
+pub struct CriticalReport<'a> {
+    pub source: &'a str,
+    pub dim: usize,
+    pub nodes: usize,
+    pub method: &'static str,
+    pub status: &'static str,
+    pub complete: bool,
+    pub stopped: Option<String>,
+    pub mu_critical: Option<f64>,
+    pub lower: Option<f64>,
+    pub upper: Option<f64>,
+    pub tol: f64,
+    pub tol_achieved: Option<f64>,
+    pub witness: Option<WitnessJson<'a>>,
+    pub pattern: Option<Vec<&'static str>>,
+    pub thresholds: Vec<ThresholdJson>,
+    pub undecided: Vec<UndecidedJson<'a>>,
+    pub info: CriticalInfoJson,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model: Option<ModelJson>,
+    pub version: &'static str,
+}
+
+/// The solution at `mu = upper`.
+#[derive(Debug, Serialize)]
+pub struct WitnessJson<'a> {
+    pub u: &'a [f64],
+    pub r: &'a [f64],
+    pub status: Vec<&'static str>,
+    pub pattern: Vec<&'static str>,
+}
+
+/// A maximal pattern and its own threshold.
+#[derive(Debug, Serialize)]
+pub struct ThresholdJson {
+    pub pattern: Vec<&'static str>,
+    pub threshold: f64,
+    pub lower: f64,
+}
+
+/// Every field of [`wedged::CriticalInfo`], under the same names (`tol_achieved` is `null`
+/// without a bracket).
+#[derive(Debug, Serialize)]
+pub struct CriticalInfoJson {
+    pub method: &'static str,
+    pub nodes_visited: u64,
+    pub pruned_infeasible: u64,
+    pub leaves_solved: u64,
+    pub dinkelbach_steps: u64,
+    pub bisection_steps: u64,
+    pub certificates: u64,
+    pub loosened: u64,
+    pub tol_achieved: Option<f64>,
+    pub mu_enumerated: Option<f64>,
+    pub patterns_enumerated: u64,
+    pub socps: u64,
+    pub retries: u64,
+    pub uncertain: u64,
+    pub seconds: f64,
+}
+
+impl CriticalInfoJson {
+    fn new(info: &CriticalInfo, bracketed: bool) -> CriticalInfoJson {
+        // No `..`: a new field of CriticalInfo must be added here too.
+        let CriticalInfo {
+            method,
+            nodes_visited,
+            pruned_infeasible,
+            leaves_solved,
+            dinkelbach_steps,
+            bisection_steps,
+            certificates,
+            loosened,
+            tol_achieved,
+            mu_enumerated,
+            patterns_enumerated,
+            socps,
+            retries,
+            uncertain,
+            seconds,
+        } = *info;
+        CriticalInfoJson {
+            method,
+            nodes_visited,
+            pruned_infeasible,
+            leaves_solved,
+            dinkelbach_steps,
+            bisection_steps,
+            certificates,
+            loosened,
+            tol_achieved: bracketed.then_some(tol_achieved),
+            mu_enumerated,
+            patterns_enumerated,
+            socps,
+            retries,
+            uncertain,
+            seconds,
+        }
+    }
+}
+
+fn pattern_names(pattern: &[wedged::ContactPattern]) -> Vec<&'static str> {
+    pattern.iter().map(|p| p.name()).collect()
+}
+
+impl<'a> CriticalReport<'a> {
+    pub fn new(
+        problem: &Problem,
+        settings: &CriticalSettings,
+        source: &'a str,
+        result: &'a Critical,
+        model: Option<&Model>,
+    ) -> CriticalReport<'a> {
+        let bracketed = result.status == CriticalStatus::Wedged && result.lower.is_some();
+        CriticalReport {
+            source,
+            dim: problem.dim(),
+            nodes: problem.nodes(),
+            method: settings.method.name(),
+            status: result.status.name(),
+            complete: !matches!(result.status, CriticalStatus::Incomplete(_)),
+            stopped: match result.status {
+                CriticalStatus::Incomplete(stop) => Some(stop.to_string()),
+                _ => None,
+            },
+            mu_critical: result.mu_critical,
+            lower: result.lower,
+            upper: result.upper,
+            tol: settings.tol,
+            tol_achieved: bracketed.then_some(result.info.tol_achieved),
+            witness: result.witness.as_ref().map(|w| WitnessJson {
+                u: &w.u,
+                r: &w.r,
+                status: w.status.iter().map(|s| s.name()).collect(),
+                pattern: pattern_names(&w.pattern),
+            }),
+            pattern: result.witness.as_ref().map(|w| pattern_names(&w.pattern)),
+            thresholds: result
+                .thresholds
+                .iter()
+                .map(|t| ThresholdJson {
+                    pattern: pattern_names(&t.pattern),
+                    threshold: t.threshold,
+                    lower: t.lower,
+                })
+                .collect(),
+            undecided: result.undecided.iter().map(UndecidedJson::from).collect(),
+            info: CriticalInfoJson::new(&result.info, bracketed),
+            model: model.map(ModelJson::new),
+            version: env!("CARGO_PKG_VERSION"),
+        }
+    }
+}
+
+/// The JSON text of a result, ending with a newline.
+pub fn to_json(
+    problem: &Problem,
+    settings: &CriticalSettings,
+    source: &str,
+    result: &Critical,
+    model: Option<&Model>,
+) -> String {
+    crate::output::layout(&CriticalReport::new(
+        problem, settings, source, result, model,
+    ))
+}
+
+/// Significant digits that show a bracket of relative width `width`: one more than the digits
+/// its ends share, from 4 to 15.
+pub fn digits_for(width: f64) -> usize {
+    if width.is_nan() || width <= 0.0 {
+        return 15;
+    }
+    // A width of 1e-7 in floating point may be just below it: not a digit more.
+    ((-width.log10() - 1e-6).ceil() as i64 + 1).clamp(4, 15) as usize
+}
+
+/// Which way a printed bound is rounded, so that the printed bracket still holds the value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Round {
+    Down,
+    Up,
+}
+
+/// `v` (positive, finite) with `digits` significant digits, rounded `dir`; plain decimals from
+/// 1e-4 to 1e9, else scientific.
+pub fn bound(v: f64, digits: usize, dir: Round) -> String {
+    if !(v.is_finite() && v > 0.0) {
+        return format!("{v}");
+    }
+    let e = v.log10().floor() as i32;
+    let shift = e - digits as i32 + 1;
+    let scaled = v / 10f64.powi(shift);
+    // Round-off in the scaling is not a digit of the value.
+    let near = scaled.round();
+    let rounded = if (scaled - near).abs() <= 1e-6 {
+        near
+    } else {
+        match dir {
+            Round::Down => scaled.floor(),
+            Round::Up => scaled.ceil(),
+        }
+    };
+    let value = rounded * 10f64.powi(shift);
+    let s = if (-4..9).contains(&e) {
+        let decimals = (-shift).max(0) as usize;
+        format!("{value:.decimals$}")
+    } else {
+        format!("{value:.*e}", digits - 1)
+    };
+    trim(&s)
+}
+
+/// Strips trailing zeros of a decimal fraction (also before an exponent).
+fn trim(s: &str) -> String {
+    let (mantissa, exponent) = match s.split_once('e') {
+        Some((m, x)) => (m, Some(x)),
+        None => (s, None),
+    };
+    let mantissa = if mantissa.contains('.') {
+        mantissa.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        mantissa
+    };
+    match exponent {
+        Some(x) => format!("{mantissa}e{x}"),
+        None => mantissa.to_string(),
+    }
+}
+
+/// `mu*` with its bracket, as printed: `(mu*, lower, upper)`, to the digits the bracket's width
+/// needs, the lower end rounded down and the upper end (and `mu*`, which is it) up.
+pub fn bracket_text(lower: f64, upper: f64) -> (String, String, String) {
+    let digits = digits_for((upper - lower) / upper);
+    let up = bound(upper, digits, Round::Up);
+    (up.clone(), bound(lower, digits, Round::Down), up)
+}
+
+/// The answer on one line: `mu* = X (certified bracket [L, U], relative width W)`, with a note
+/// when the width certified is wider than asked; or the line of a body that never wedges.
+pub fn answer_line(result: &Critical, tol: f64) -> Option<String> {
+    match (result.status, result.lower, result.upper) {
+        (CriticalStatus::Wedged, Some(lower), Some(upper)) => {
+            let (mu, lo, up) = bracket_text(lower, upper);
+            let width = result.info.tol_achieved;
+            let note = if width > tol * (1.0 + 1e-9) {
+                format!("; asked {tol:e}: the floating-point certificates reach no closer")
+            } else {
+                String::new()
+            };
+            Some(format!(
+                "mu* = {mu} (certified bracket [{lo}, {up}], relative width {width:.1e}{note})"
+            ))
+        }
+        (CriticalStatus::Never, _, _) => Some(
+            "No friction coefficient wedges this body (certified: the search is infeasible with \
+             friction unlimited)."
+                .to_string(),
+        ),
+        _ => None,
+    }
+}
+
+/// The human-readable summary; `json` is the JSON file written, if any.
+pub fn render(
+    problem: &Problem,
+    settings: &CriticalSettings,
+    source: &str,
+    file_mu: Option<f64>,
+    result: &Critical,
+    json: Option<&Path>,
+) -> String {
+    let mut out = String::new();
+    let start = match (settings.method, result.info.mu_enumerated, file_mu) {
+        (wedged::CriticalMethod::Enumerate, _, Some(mu)) => {
+            format!(", enumeration from the file's mu = {mu}")
+        }
+        (wedged::CriticalMethod::Enumerate, _, None) => {
+            ", enumeration from mu = 1 (the file gives no mu)".to_string()
+        }
+        (_, _, Some(_)) => " (the file's mu is not used)".to_string(),
+        _ => String::new(),
+    };
+    let _ = writeln!(
+        out,
+        "problem {source}: dim {}, {}; critical friction coefficient by {}, tol {:e}{start}",
+        problem.dim(),
+        plural(problem.nodes(), "node", "nodes"),
+        settings.method.name(),
+        settings.tol
+    );
+    match (result.status, result.upper) {
+        (CriticalStatus::Wedged | CriticalStatus::Never, _) => {
+            if let Some(line) = answer_line(result, settings.tol) {
+                let _ = writeln!(out, "{line}");
+            }
+            if let (CriticalStatus::Wedged, Some(lower), Some(upper)) =
+                (result.status, result.lower, result.upper)
+            {
+                let (_, lo, up) = bracket_text(lower, upper);
+                wrapped(
+                    &mut out,
+                    2,
+                    2,
+                    &format!(
+                        "(below {lo} no friction coefficient wedges the body, by checked \
+                         infeasibility certificates; at {up} the configuration below does, \
+                         checked against the wedged problem)"
+                    ),
+                );
+            }
+        }
+        (CriticalStatus::Incomplete(stop), Some(upper)) => {
+            let _ = writeln!(
+                out,
+                "INCOMPLETE: {stop}; mu* <= {} (a wedged configuration exists there, checked; \
+                 below), but nothing below it is certified",
+                bound(upper, 10, Round::Up)
+            );
+        }
+        (CriticalStatus::Incomplete(stop), None) => {
+            let _ = writeln!(
+                out,
+                "INCOMPLETE: {stop} before any wedged configuration was found; nothing is \
+                 claimed about mu*"
+            );
+        }
+    }
+    for u in &result.undecided {
+        let nodes: Vec<usize> = (0..u.contact.len())
+            .filter(|&i| u.contact[i])
+            .map(|i| i + 1)
+            .collect();
+        let set = if nodes.is_empty() {
+            "no node".to_string()
+        } else {
+            format!(
+                "{} {}",
+                if nodes.len() == 1 { "node" } else { "nodes" },
+                crate::summary::ranges(&nodes)
+            )
+        };
+        let _ = writeln!(
+            out,
+            "WARNING: the solver could not decide the contact set {{{set}}} ({}); mu* may be \
+             below what was found",
+            crate::one_line(&u.reason)
+        );
+    }
+    if let (Some(w), Some(upper)) = (&result.witness, result.upper) {
+        out.push('\n');
+        witness_table(&mut out, problem, w, upper);
+    }
+    if !result.thresholds.is_empty() {
+        out.push('\n');
+        thresholds_table(&mut out, problem, result);
+    }
+    out.push('\n');
+    info_lines(&mut out, problem, result);
+    if let Some(path) = json {
+        let _ = writeln!(out, "JSON written to {}", path.display());
+    }
+    out
+}
+
+/// The witness's nodes: one line each (status, gap, pressure, friction ratio), or for many nodes
+/// one character each.
+fn witness_table(out: &mut String, problem: &Problem, w: &wedged::CriticalWitness, upper: f64) {
+    let (d, m) = (problem.dim(), problem.nodes());
+    let _ = writeln!(
+        out,
+        "the wedged configuration at mu = {upper:.8} (normalised to sum r_n = 1; the slipping \
+         nodes have |r_t| / r_n = mu):"
+    );
+    if m > NODE_LINES_UP_TO {
+        let _ = writeln!(
+            out,
+            "  status of nodes 1-{m}, in groups of ten:  {}",
+            codes(w.status.iter().map(|&s| status_code(s)))
+        );
+        let _ = writeln!(
+            out,
+            "  pattern:                                  {}",
+            codes(w.pattern.iter().map(|&p| pattern_code(p)))
+        );
+        let _ = writeln!(out, "  ({}; {PATTERN_LEGEND})", status_legend(d));
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "  {:>4}  {:<9}  {:>10}  {:>10}  {:>11}",
+        "node", "status", "u_n", "r_n", "|r_t|/r_n"
+    );
+    for i in 0..m {
+        let (un, rn) = (w.u[d * i], w.r[d * i]);
+        let rt = w.r[d * i + 1..d * i + d]
+            .iter()
+            .map(|x| x * x)
+            .sum::<f64>()
+            .sqrt();
+        // Eight digits: a sticking node's ratio may differ from mu* only far down.
+        let ratio = if rn > 0.0 {
+            format!("{:.8}", rt / rn)
+        } else {
+            "-".to_string()
+        };
+        let status = w.status[i];
+        let _ = writeln!(
+            out,
+            "  {:>4}  {:<9}  {:>10}  {:>10}  {:>11}",
+            i + 1,
+            status.name(),
+            if status == NodeStatus::Separated {
+                sig4(un)
+            } else {
+                "0".to_string()
+            },
+            sig4(rn),
+            ratio
+        );
+    }
+}
+
+/// Each maximal pattern of the enumeration with its own threshold, by threshold.
+fn thresholds_table(out: &mut String, problem: &Problem, result: &Critical) {
+    let m = problem.nodes();
+    let rows: &[PatternThreshold] = &result.thresholds;
+    let mu_enumerated = result
+        .info
+        .mu_enumerated
+        .map_or_else(|| "?".to_string(), sig4);
+    wrapped(
+        out,
+        0,
+        2,
+        &format!(
+            "{} at mu = {mu_enumerated}, each with its own threshold (the least mu at which it \
+             is realised; below lower it is certified not to be), by threshold:",
+            plural(rows.len(), "maximal pattern", "maximal patterns")
+        ),
+    );
+    let width = rows
+        .iter()
+        .map(|t| (t.threshold - t.lower) / t.threshold)
+        .fold(0.0f64, f64::max);
+    let digits = digits_for(width);
+    let index_width = rows.len().saturating_sub(1).to_string().len().max(1);
+    let number_width = (digits + 3).max(9);
+    let _ = writeln!(
+        out,
+        "  {:>index_width$}  {:<number_width$}  {:<number_width$}  pattern of nodes 1-{m}{}",
+        "#",
+        "threshold",
+        "lower",
+        if m > 10 { ", in groups of ten" } else { "" }
+    );
+    for (k, t) in rows.iter().enumerate().take(THRESHOLD_LIMIT) {
+        let _ = writeln!(
+            out,
+            "  {k:>index_width$}  {:<number_width$}  {:<number_width$}  {}",
+            bound(t.threshold, digits, Round::Up),
+            bound(t.lower, digits, Round::Down),
+            codes(t.pattern.iter().map(|&p| pattern_code(p)))
+        );
+    }
+    if rows.len() > THRESHOLD_LIMIT {
+        let _ = writeln!(
+            out,
+            "  ... and {} more (the first {THRESHOLD_LIMIT} are shown; --json writes them all)",
+            rows.len() - THRESHOLD_LIMIT
+        );
+    }
+    let _ = writeln!(out, "  ({PATTERN_LEGEND})");
+}
+
+/// The diagnostics: the search, the thresholds, the conic programs, the time.
+fn info_lines(out: &mut String, problem: &Problem, result: &Critical) {
+    let info = &result.info;
+    let m = problem.nodes();
+    let _ = writeln!(out, "info: {}, {}", info.method, seconds_text(info.seconds));
+    let mut search = Vec::new();
+    if let Some(mu) = info.mu_enumerated {
+        search.push(format!(
+            "{} enumerated at mu = {}",
+            plural(
+                info.patterns_enumerated as usize,
+                "maximal pattern",
+                "maximal patterns"
+            ),
+            sig4(mu)
+        ));
+    }
+    if info.nodes_visited > 0 {
+        search.push(format!(
+            "branch and bound over the 2^{m} contact sets: {} visited, {} pruned (certified \
+             infeasible)",
+            plural(info.nodes_visited as usize, "node", "nodes"),
+            plural(info.pruned_infeasible as usize, "subtree", "subtrees")
+        ));
+    } else if info.method == "faces" {
+        search.push(format!(
+            "all 2^{m} contact sets, {} certified infeasible",
+            info.pruned_infeasible
+        ));
+    }
+    search.push(format!(
+        "{} computed",
+        plural(info.leaves_solved as usize, "threshold", "thresholds")
+    ));
+    wrapped(out, 2, 4, &format!("search: {}", search.join("; ")));
+    let mut steps = Vec::new();
+    if info.dinkelbach_steps > 0 {
+        steps.push(plural(
+            info.dinkelbach_steps as usize,
+            "Dinkelbach step",
+            "Dinkelbach steps",
+        ));
+    }
+    if info.bisection_steps > 0 {
+        steps.push(plural(
+            info.bisection_steps as usize,
+            "bisection step",
+            "bisection steps",
+        ));
+    }
+    steps.push(format!(
+        "{} checked{}",
+        plural(
+            info.certificates as usize,
+            "infeasibility certificate",
+            "infeasibility certificates"
+        ),
+        if info.loosened > 0 {
+            format!(
+                " ({} taken further below a threshold than --tol asked)",
+                info.loosened
+            )
+        } else {
+            String::new()
+        }
+    ));
+    wrapped(out, 2, 4, &format!("thresholds: {}", steps.join(", ")));
+    let unsure = match (info.uncertain, result.status) {
+        (0, _) => String::new(),
+        (n, CriticalStatus::Incomplete(_)) => format!(", {n} undecided"),
+        (n, _) => format!(", {n} undecided but not needed for the answer"),
+    };
+    wrapped(
+        out,
+        2,
+        4,
+        &format!(
+            "{} solved ({} retried{unsure})",
+            plural(info.socps as usize, "SOCP", "SOCPs"),
+            info.retries
+        ),
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bounds_round_outwards_to_the_digits_asked() {
+        assert_eq!(bound(1.788_243_05, 8, Round::Up), "1.7882431");
+        assert_eq!(bound(1.788_241_37, 8, Round::Down), "1.7882413");
+        assert_eq!(bound(1.0, 11, Round::Up), "1");
+        assert_eq!(bound(0.5, 11, Round::Down), "0.5");
+        assert_eq!(bound(0.999_999_999, 11, Round::Down), "0.999999999");
+        assert_eq!(bound(0.999_999_75, 8, Round::Down), "0.99999975");
+        assert_eq!(bound(1.5e12, 4, Round::Up), "1.5e12");
+        assert_eq!(bound(2.345e-6, 4, Round::Up), "2.345e-6");
+        assert_eq!(digits_for(9.4e-7), 8);
+        assert_eq!(digits_for(1.0e-9), 10);
+        assert_eq!(digits_for(0.0), 15);
+        assert_eq!(digits_for(0.5), 4);
+    }
+
+    #[test]
+    fn the_answer_says_when_the_width_asked_was_not_reached() {
+        let result = Critical {
+            status: CriticalStatus::Wedged,
+            mu_critical: Some(1.788_243_05),
+            lower: Some(1.788_241_37),
+            upper: Some(1.788_243_05),
+            witness: None,
+            thresholds: Vec::new(),
+            undecided: Vec::new(),
+            info: CriticalInfo {
+                tol_achieved: (1.788_243_05 - 1.788_241_37) / 1.788_243_05,
+                ..CriticalInfo::default()
+            },
+        };
+        assert_eq!(
+            answer_line(&result, 1e-9).unwrap(),
+            "mu* = 1.7882431 (certified bracket [1.7882413, 1.7882431], relative width 9.4e-7; \
+             asked 1e-9: the floating-point certificates reach no closer)"
+        );
+        assert!(!answer_line(&result, 1e-3).unwrap().contains("asked"));
+        let never = Critical {
+            status: CriticalStatus::Never,
+            mu_critical: None,
+            lower: None,
+            upper: None,
+            ..result
+        };
+        assert!(answer_line(&never, 1e-9)
+            .unwrap()
+            .starts_with("No friction coefficient wedges this body"));
+    }
+}
