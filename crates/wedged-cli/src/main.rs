@@ -28,6 +28,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::fs;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
+use wedged::certify::certify_enumeration;
 use wedged::fe::Model;
 use wedged::patterns::{
     enumerate_patterns_with_control, PatternMethod, PatternSettings, DEFAULT_PYRAMID_FACES,
@@ -235,6 +236,13 @@ struct EnumerateArgs {
     /// DIR are removed).
     #[arg(long, value_name = "DIR")]
     svg: Option<PathBuf>,
+    /// Certify the rays and cones of a 2D ray method (pruned-dd, full-dd, faces) in exact
+    /// rational arithmetic: each ray recomputed from its status, checked extreme, feasible with
+    /// exactly its status and complementary, and compared with the floating-point ray; each
+    /// cone's rays checked cross-complementary. A failure is reported and the exit code is 1.
+    /// (Completeness is not certified; pattern methods are not certified yet.)
+    #[arg(long)]
+    certify: bool,
 }
 
 #[derive(Debug, Args)]
@@ -501,6 +509,7 @@ fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
             json: args.json.json.as_deref(),
             vtk: args.vtk.as_deref(),
             svg: args.svg.as_deref(),
+            certify: args.certify,
         },
     )
 }
@@ -551,6 +560,7 @@ fn run_demo(args: DemoArgs) -> Result<(), Failure> {
             json: Some(&json),
             vtk: Some(dir),
             svg: Some(dir),
+            certify: false,
         },
     )?;
     // The same plug's mu*, by branch and bound.
@@ -778,6 +788,8 @@ struct Outputs<'a> {
     json: Option<&'a Path>,
     vtk: Option<&'a Path>,
     svg: Option<&'a Path>,
+    /// `--certify`: certify a ray method's answer in exact rational arithmetic.
+    certify: bool,
 }
 
 /// Enumerates and writes the summary and the JSON. The JSON target is opened before the run, so
@@ -794,6 +806,7 @@ fn report(
         json,
         vtk,
         svg,
+        certify,
     } = outputs;
     let json = json
         .map(JsonTarget::open)
@@ -806,9 +819,18 @@ fn report(
         export::prepare_dir(dir, "--svg", "svg").map_err(Failure::Input)?;
     }
     let answer = run_library(problem, choice, source)?;
-    let json_text = json
-        .as_ref()
-        .map(|_| output::to_json(problem, choice, &answer, model));
+    let certificate = match (&answer, certify) {
+        (Answer::Rays(result), true) => Some(certify_enumeration(problem, result)),
+        (Answer::Patterns(_), true) => {
+            eprintln!("exact certification is not available for sign patterns yet");
+            None
+        }
+        (_, false) => None,
+    };
+    let json_text = json.as_ref().map(|_| {
+        let certified = certificate.as_ref().map(|c| c.certified);
+        output::to_json(problem, choice, &answer, model, certified)
+    });
     let incomplete = answer.stopped();
     let written = match model {
         Some(model) if (vtk.is_some() || svg.is_some()) && incomplete.is_none() => {
@@ -834,6 +856,9 @@ fn report(
             stdout_text.push_str(&summary::render(
                 problem, choice, source, &answer, json_path,
             ));
+            if let Some(c) = &certificate {
+                stdout_text.push_str(&summary::certification(c));
+            }
             stdout_text.push_str(&summary::files(&answer, vtk, svg, &written));
         }
     }
@@ -843,6 +868,17 @@ fn report(
             .map_err(|e| Failure::Input(e.to_string()))?;
     }
     write_stdout(&stdout_text)?;
+    if let Some(c) = certificate.as_ref().filter(|c| !c.certified) {
+        return Err(Failure::Internal(format!(
+            "{source}: exact certification failed ({}; first: {}): the floating-point answer \
+             cannot be trusted",
+            match c.failures.len() {
+                1 => "1 check".to_string(),
+                n => format!("{n} checks"),
+            },
+            c.failures.first().map_or("", String::as_str)
+        )));
+    }
     match incomplete {
         Some(stop) => Err(Failure::Incomplete(incomplete_text(
             source, problem, &answer, stop,

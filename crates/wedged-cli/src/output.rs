@@ -3,6 +3,7 @@
 //! ```text
 //! { "dim": 2, "mu": 1.0, "nodes": 4, "method": "pruned-dd",
 //!   "outcome": "wedged" | "not-wedged" | "incomplete", "complete": true, "stopped": null | "why",
+//!   "certified": true | false | null,
 //!   "rays":  [ { "u": [..], "r": [..], "status": ["separated" | "stick" | "slip+" | "slip-" | "grazing", ..] } ],
 //!   "cones": [ { "rays": [0-based ray indices], "status": ["contact" | "separated" | "grazing", ..] } ],
 //!   "patterns": [ { "pattern": ["contact" | "separated" | "grazing", ..],
@@ -36,6 +37,11 @@
 //!   the patterns it found before the stop: each realised and checked, but others may be
 //!   missing and these may not all be maximal.
 //!
+//! `certified` is the result of `--certify` for a ray method: `true` when the rays and cones
+//! passed every check of `wedged::certify` in exact rational arithmetic, `false` when one failed
+//! (the exit code is then 1); `null` when `--certify` was not given, and for a pattern method,
+//! whose sign patterns are not certified yet.
+//!
 //! Vectors are in the local node frames, normal first (`n, t` in 2D, `n, t1, t2` in 3D), with
 //! rays and witnesses normalised to `sum r_n = 1`. The top level and the lists are laid out one
 //! item per line; each item is on one line.
@@ -65,6 +71,9 @@ pub struct Report<'a> {
     pub complete: bool,
     /// Why an incomplete run stopped; `null` for a complete one.
     pub stopped: Option<String>,
+    /// `--certify`: true when every exact check passed, false when one failed; `null` without
+    /// `--certify` or for a pattern method (sign patterns are not certified yet).
+    pub certified: Option<bool>,
     pub rays: Vec<RayJson<'a>>,
     pub cones: Vec<ConeJson<'a>>,
     /// The convex pieces, whatever the method (see the module documentation).
@@ -363,6 +372,7 @@ impl<'a> Report<'a> {
                 Outcome::Incomplete(stop) => Some(stop.to_string()),
                 _ => None,
             },
+            certified: None,
             rays,
             cones,
             patterns: answer.pieces().iter().map(PatternJson::from).collect(),
@@ -374,14 +384,17 @@ impl<'a> Report<'a> {
     }
 }
 
-/// The JSON text of a result, ending with a newline.
+/// The JSON text of a result, ending with a newline; `certified` is the result of `--certify`.
 pub fn to_json(
     problem: &Problem,
     choice: &Choice,
     answer: &Answer,
     model: Option<&Model>,
+    certified: Option<bool>,
 ) -> String {
-    layout(&Report::new(problem, choice, answer, model))
+    let mut report = Report::new(problem, choice, answer, model);
+    report.certified = certified;
+    layout(&report)
 }
 
 /// The JSON text of any report (this one's or `wedged critical`'s), in the shallow-pretty
@@ -662,7 +675,7 @@ mod tests {
             ..PatternSettings::default()
         });
         let json: serde_json::Value =
-            serde_json::from_str(&to_json(&problem, &choice, &answer, None)).unwrap();
+            serde_json::from_str(&to_json(&problem, &choice, &answer, None, None)).unwrap();
         assert_eq!(json["complete"], false);
         assert_eq!(json["outcome"], "incomplete");
         assert_eq!(

@@ -9,6 +9,7 @@
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
+use wedged::certify::Certificate;
 use wedged::fe::{ElementKind, Model, Plane};
 use wedged::patterns::{PatternMethod, Patterns};
 use wedged::{ContactPattern, Enumeration, Info, NodeStatus, Outcome, Problem, Stop};
@@ -129,6 +130,25 @@ pub fn render(
     }
     if let Some(path) = json {
         let _ = writeln!(out, "JSON written to {}", path.display());
+    }
+    out
+}
+
+/// The result of `--certify`: one line when every exact check passed, else a WARNING line per
+/// failed check.
+pub fn certification(c: &Certificate) -> String {
+    let mut out = String::new();
+    if c.certified {
+        let _ = writeln!(
+            out,
+            "certified in exact rational arithmetic: {}, {}",
+            plural(c.rays_checked, "ray", "rays"),
+            plural(c.cones_checked, "cone", "cones")
+        );
+    } else {
+        for failure in &c.failures {
+            let _ = writeln!(out, "WARNING: exact certification failed: {failure}");
+        }
     }
     out
 }

@@ -126,6 +126,7 @@ fn check_report(report: &Value, k: &DMatrix<f64>) {
         "outcome",
         "complete",
         "stopped",
+        "certified",
         "rays",
         "cones",
         "patterns",
@@ -136,7 +137,7 @@ fn check_report(report: &Value, k: &DMatrix<f64>) {
         assert!(keys.contains(&key), "missing {key} in {keys:?}");
     }
     // `model` is there for a meshed body only.
-    let expected = 13 + usize::from(keys.contains(&"model"));
+    let expected = 14 + usize::from(keys.contains(&"model"));
     assert_eq!(keys.len(), expected, "{keys:?}");
     let info = report["info"].as_object().unwrap();
     let ray_method =
@@ -1312,4 +1313,62 @@ fn sweep_needs_its_svg_path() {
     let svg = path_in(&dir, "no/such/dir/plot.svg");
     let out = wedged(&["sweep", &fixture("two_nodes.toml"), "--svg", &svg]);
     assert_bad_input(&out, &[&svg, "cannot write"]);
+}
+
+#[test]
+fn certify_flag_certifies_ray_methods() {
+    for method in ["pruned-dd", "full-dd", "faces"] {
+        let out = wedged(&[
+            "enumerate",
+            &fixture("coupled_array.toml"),
+            "--method",
+            method,
+            "--certify",
+            "--json",
+            "-",
+        ]);
+        let report = json_stdout(&out);
+        assert_eq!(report["certified"], Value::Bool(true), "{method}");
+        // The summary says so in one line.
+        let out = wedged(&[
+            "enumerate",
+            &fixture("coupled_array.toml"),
+            "--method",
+            method,
+            "--certify",
+        ]);
+        assert_success(&out);
+        assert!(
+            stdout(&out).contains("certified in exact rational arithmetic: 7 rays, 4 cones"),
+            "{}",
+            stdout(&out)
+        );
+    }
+    // Without the flag, the key is null and the summary has no such line.
+    let out = wedged(&["enumerate", &fixture("coupled_array.toml"), "--json", "-"]);
+    assert_eq!(json_stdout(&out)["certified"], Value::Null);
+    let out = wedged(&["enumerate", &fixture("coupled_array.toml")]);
+    assert_success(&out);
+    assert!(!stdout(&out).contains("certified in exact"));
+}
+
+#[test]
+fn certify_flag_is_not_available_for_patterns() {
+    let out = wedged(&[
+        "enumerate",
+        &fixture("coupled_array.toml"),
+        "--method",
+        "bnb",
+        "--certify",
+        "--json",
+        "-",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("exact certification is not available for sign patterns yet"),
+        "{}",
+        stderr(&out)
+    );
+    let report: Value = serde_json::from_str(&stdout(&out)).unwrap();
+    assert_eq!(report["certified"], Value::Null);
 }
