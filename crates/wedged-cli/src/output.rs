@@ -283,6 +283,7 @@ pub struct RayInfoJson<'a> {
     pub peak_bytes: u64,
     pub candidates: u64,
     pub extreme_rays_total: usize,
+    pub near_degenerate: u64,
     pub seconds: f64,
 }
 
@@ -301,6 +302,7 @@ impl<'a> From<&'a Info> for RayInfoJson<'a> {
             peak_bytes,
             candidates,
             extreme_rays_total,
+            near_degenerate,
             seconds,
         } = info;
         RayInfoJson {
@@ -315,6 +317,7 @@ impl<'a> From<&'a Info> for RayInfoJson<'a> {
             peak_bytes: *peak_bytes,
             candidates: *candidates,
             extreme_rays_total: *extreme_rays_total,
+            near_degenerate: *near_degenerate,
             seconds: *seconds,
         }
     }

@@ -593,6 +593,13 @@ fn info_line(info: &Info) -> String {
             "rays created",
         ));
     }
+    if info.near_degenerate > 0 {
+        parts.push(plural(
+            info.near_degenerate as usize,
+            "near-degenerate sign decision",
+            "near-degenerate sign decisions",
+        ));
+    }
     if info.extreme_rays_total > 0 {
         parts.push(plural(
             info.extreme_rays_total,

@@ -390,3 +390,21 @@ fn cone_status_is_the_status_of_the_centroid() {
         "{cones_seen} cones, {multi_ray} with several rays"
     );
 }
+
+/// Close calls are counted: with compliance `G = [[1, 1/2], [1/2, 1]]` the friction edge
+/// `r = (1, -mu)` has `u_n = 1 - mu / 2`, which at `mu = 2 (1 - 1e-8)` is `1e-8` against terms
+/// summing to about 2: five times the zero threshold (`1e-9` relative), a near-degenerate sign
+/// decision. At `mu = 1` no decision is close.
+#[test]
+fn near_degenerate_sign_decisions_are_counted() {
+    let k = nalgebra::DMatrix::from_row_slice(2, 2, &[1.0, -0.5, -0.5, 1.0]) / 0.75;
+    let count = |mu: f64| {
+        let problem = Problem::new(2, k.clone(), mu).unwrap();
+        enumerate(&problem, &Settings::default())
+            .unwrap()
+            .info
+            .near_degenerate
+    };
+    assert_eq!(count(1.0), 0);
+    assert!(count(2.0 * (1.0 - 1e-8)) >= 1);
+}

@@ -474,7 +474,8 @@ pub(crate) fn run(
     // or faster on the random and lattice families. The answer does not depend on the order.)
     let mut use_superset_filter = true;
     for i in 0..m {
-        let (value, plus, minus, zero) = classify(&rays, &gap_rows[i * n..(i + 1) * n], tol);
+        let (value, plus, minus, zero, near) = classify(&rays, &gap_rows[i * n..(i + 1) * n], tol);
+        info.near_degenerate += near;
         let tree = PatternTree::build(&rays, &minus);
         // The superset filter pays only where the count lets many non-adjacent pairs through
         // (degenerate problems); where nearly every candidate is adjacent, its failing queries
@@ -584,13 +585,20 @@ pub(crate) fn run(
         .collect()
 }
 
-/// The values `u_n_j` at every held ray, and the rays where it is positive, negative, zero.
-type Signs = (Vec<f64>, Vec<usize>, Vec<usize>, Vec<usize>);
+/// The values `u_n_j` at every held ray, the rays where it is positive, negative, zero, and the
+/// number of close calls.
+type Signs = (Vec<f64>, Vec<usize>, Vec<usize>, Vec<usize>, u64);
+
+/// A sign decision is a close call when `|x|` is within this factor of its zero threshold, on
+/// either side ([`Info::near_degenerate`](crate::Info::near_degenerate)).
+const NEAR: f64 = 100.0;
 
 /// `u_n_j` (the dot product of `row = G[n_j, :]` with each ray) and the rays where it is positive,
-/// negative and zero. Zero means `|x| <= tol * sum_k |G_{n_j k} r_k|`.
+/// negative and zero. Zero means `|x| <= tol * sum_k |G_{n_j k} r_k|`; a value within a factor
+/// [`NEAR`] of that bound, either way, is also counted as a close call.
 fn classify(rays: &Rays, row: &[f64], tol: f64) -> Signs {
     let (mut plus, mut minus, mut zero) = (Vec::new(), Vec::new(), Vec::new());
+    let mut near = 0u64;
     let value: Vec<f64> = (0..rays.len())
         .map(|a| {
             let (mut v, mut s) = (0.0, 0.0);
@@ -598,6 +606,9 @@ fn classify(rays: &Rays, row: &[f64], tol: f64) -> Signs {
                 let t = g * r;
                 v += t;
                 s += t.abs();
+            }
+            if v.abs() > tol * s / NEAR && v.abs() <= tol * s * NEAR {
+                near += 1;
             }
             if v.abs() <= tol * s {
                 zero.push(a);
@@ -609,7 +620,7 @@ fn classify(rays: &Rays, row: &[f64], tol: f64) -> Signs {
             v
         })
         .collect();
-    (value, plus, minus, zero)
+    (value, plus, minus, zero, near)
 }
 
 /// The status of node `j` in a ray with zero set `z` (all constraints processed), or `None` when

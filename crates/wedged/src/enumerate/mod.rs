@@ -331,6 +331,10 @@ pub struct Info {
     pub candidates: u64,
     /// Extreme rays of `C` found before the complementarity filter (full-dd).
     pub extreme_rays_total: usize,
+    /// Close calls among the floating-point sign decisions of `u_n_i` at a held ray (pruned-dd,
+    /// full-dd): values within a factor of 100 of the zero tolerance, on either side. They were
+    /// decided by the tolerance; `--certify` checks the reported rays exactly.
+    pub near_degenerate: u64,
     /// Wall-clock seconds for the whole run.
     pub seconds: f64,
 }
