@@ -382,19 +382,7 @@ pub fn render(
         }
     }
     for u in &result.undecided {
-        let nodes: Vec<usize> = (0..u.contact.len())
-            .filter(|&i| u.contact[i])
-            .map(|i| i + 1)
-            .collect();
-        let set = if nodes.is_empty() {
-            "no node".to_string()
-        } else {
-            format!(
-                "{} {}",
-                if nodes.len() == 1 { "node" } else { "nodes" },
-                crate::summary::ranges(&nodes)
-            )
-        };
+        let set = crate::summary::contact_set(&u.contact);
         let _ = writeln!(
             out,
             "WARNING: the solver could not decide the contact set {{{set}}} ({}); mu* may be \

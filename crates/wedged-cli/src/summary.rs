@@ -244,19 +244,7 @@ fn render_patterns(out: &mut String, problem: &Problem, choice: &Choice, result:
         }
     }
     for u in &result.undecided {
-        let nodes: Vec<usize> = (0..u.contact.len())
-            .filter(|&i| u.contact[i])
-            .map(|i| i + 1)
-            .collect();
-        let set = if nodes.is_empty() {
-            "no node".to_string()
-        } else {
-            format!(
-                "{} {}",
-                if nodes.len() == 1 { "node" } else { "nodes" },
-                ranges(&nodes)
-            )
-        };
+        let set = contact_set(&u.contact);
         let _ = writeln!(
             out,
             "WARNING: the solver could not decide the contact set {{{set}}} ({}); the patterns \
@@ -513,6 +501,19 @@ fn more(out: &mut String, total: usize, what: &str) {
 }
 
 /// Increasing indices with runs of three or more shortened: `0-3 7 9 10`.
+/// A contact set (one flag per node) as text: "no node", "node 3", "nodes 1-4, 7".
+pub(crate) fn contact_set(contact: &[bool]) -> String {
+    let nodes: Vec<usize> = (0..contact.len())
+        .filter(|&i| contact[i])
+        .map(|i| i + 1)
+        .collect();
+    match nodes.len() {
+        0 => "no node".to_string(),
+        1 => format!("node {}", ranges(&nodes)),
+        _ => format!("nodes {}", ranges(&nodes)),
+    }
+}
+
 pub(crate) fn ranges(indices: &[usize]) -> String {
     let mut parts = Vec::new();
     let mut i = 0;
