@@ -609,6 +609,7 @@ fn critical_job<'a>(
             method,
             tol: common.tol.unwrap_or(wedged::critical::DEFAULT_TOL),
             limits,
+            certify: false,
         },
         source: problem.display().to_string(),
         json,

@@ -7,7 +7,8 @@
 //! cargo run --release -p wedged --example critical_run -- random DIM M SEED [METHOD] [TOL]
 //! ```
 //!
-//! It prints the bracket, the witness's statuses and the search statistics.
+//! It prints the bracket, the witness's statuses and the search statistics; with the
+//! environment variable `CERTIFY` set, also the exact certification.
 
 use wedged::{critical, CriticalMethod, CriticalSettings, Problem};
 
@@ -58,6 +59,7 @@ fn main() {
     let settings = CriticalSettings {
         method,
         tol,
+        certify: std::env::var_os("CERTIFY").is_some(),
         ..CriticalSettings::default()
     };
     let c = critical(&problem, &settings).expect("valid settings");
@@ -76,6 +78,9 @@ fn main() {
         println!("witness: {}", s.join(" "));
     }
     println!("{:#?}", c.info);
+    if let Some(cert) = &c.certificate {
+        println!("{cert:#?}");
+    }
     for u in &c.undecided {
         println!("undecided: {:?}: {}", u.contact, u.reason);
     }

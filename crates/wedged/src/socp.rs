@@ -142,14 +142,22 @@ impl Program {
         self.objective = terms.to_vec();
     }
 
-    /// Adds `e(x) = 0`.
-    pub(crate) fn zero(&mut self, e: Affine) {
+    /// Adds `e(x) = 0`; returns its row in an infeasibility certificate (zero rows come first).
+    pub(crate) fn zero(&mut self, e: Affine) -> usize {
         self.zeros.push(e);
+        self.zeros.len() - 1
     }
 
-    /// Adds `e(x) >= 0`.
-    pub(crate) fn nonneg(&mut self, e: Affine) {
+    /// Adds `e(x) >= 0`; returns its ordinal among the nonnegative rows (its row in a
+    /// certificate is [`Program::nonneg_row`] of it, once every zero row is added).
+    pub(crate) fn nonneg(&mut self, e: Affine) -> usize {
         self.nonnegs.push(e);
+        self.nonnegs.len() - 1
+    }
+
+    /// The row of the nonnegative constraint with ordinal `k` in an infeasibility certificate.
+    pub(crate) fn nonneg_row(&self, k: usize) -> usize {
+        self.zeros.len() + k
     }
 
     /// Adds `head(x) >= ||(tail_1(x), ..., tail_k(x))||_2`, `k >= 1` (with `k = 1`,
@@ -165,8 +173,11 @@ pub(crate) enum Answer {
     /// Solved and checked: `x` satisfies every constraint within the tolerances of the module
     /// docs, and is optimal within them; `value = objective . x`.
     Optimal { x: Vec<f64>, value: f64 },
-    /// Infeasible, with a checked certificate.
-    Infeasible,
+    /// Infeasible, with a checked certificate: `y`, one multiplier per row (zero rows in the
+    /// order added, then nonnegative rows, then each cone's head and tail), scaled to
+    /// `||y||_inf = 1` and projected onto the dual cone. Empty for a program without variables
+    /// (a violated constant is then its own certificate).
+    Infeasible { y: Vec<f64> },
     /// Neither could be established, even after the retry; the reason in words (Clarabel's
     /// status, or which check failed and by how much, for both attempts; `"unbounded"` for an
     /// unbounded objective).
@@ -238,7 +249,7 @@ fn constant_answer(form: &Form) -> Answer {
             value: 0.0,
         }
     } else {
-        Answer::Infeasible
+        Answer::Infeasible { y: Vec::new() }
     }
 }
 
@@ -527,7 +538,7 @@ fn attempt(form: &Form, tight: bool) -> Verdict {
             check_optimal(form, &x, &z).map(|value| Answer::Optimal { x, value })
         }
         SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
-            check_certificate(form, &z).map(|()| Answer::Infeasible)
+            check_certificate(form, &z).map(|y| Answer::Infeasible { y })
         }
         SolverStatus::DualInfeasible | SolverStatus::AlmostDualInfeasible => {
             return Verdict::Failed(Failure {
@@ -678,8 +689,9 @@ fn check_point(form: &Form, x: &[f64]) -> Result<(), String> {
     Ok(())
 }
 
-/// Checks Clarabel's certificate of primal infeasibility `y` (see the module docs).
-fn check_certificate(form: &Form, y: &[f64]) -> Result<(), String> {
+/// Checks Clarabel's certificate of primal infeasibility `y` (see the module docs); returns it
+/// scaled and projected as checked.
+fn check_certificate(form: &Form, y: &[f64]) -> Result<Vec<f64>, String> {
     if y.len() != form.rows.len() || y.iter().any(|v| !v.is_finite()) {
         return Err("the certificate has a non-finite entry or the wrong length".to_string());
     }
@@ -717,7 +729,7 @@ fn check_certificate(form: &Form, y: &[f64]) -> Result<(), String> {
             ));
         }
     }
-    Ok(())
+    Ok(y)
 }
 
 #[cfg(test)]
@@ -798,8 +810,14 @@ mod tests {
 
     #[test]
     fn infeasible_lp_and_socp() {
-        assert_eq!(solve(&infeasible_lp()).0, Answer::Infeasible);
-        assert_eq!(solve(&infeasible_socp()).0, Answer::Infeasible);
+        assert!(matches!(
+            solve(&infeasible_lp()).0,
+            Answer::Infeasible { .. }
+        ));
+        assert!(matches!(
+            solve(&infeasible_socp()).0,
+            Answer::Infeasible { .. }
+        ));
     }
 
     #[test]
@@ -862,7 +880,7 @@ mod tests {
             match solve(&p).0 {
                 Answer::Optimal { x, .. } => assert!(x[2].abs() < 1e-3, "{x:?}"),
                 Answer::Uncertain { .. } => {}
-                Answer::Infeasible => panic!("a feasible program called infeasible"),
+                Answer::Infeasible { .. } => panic!("a feasible program called infeasible"),
             }
         }
     }
@@ -889,7 +907,7 @@ mod tests {
             )
         );
         p.nonneg(Affine::new(vec![], -1e-300));
-        assert_eq!(solve(&p).0, Answer::Infeasible);
+        assert!(matches!(solve(&p).0, Answer::Infeasible { .. }));
         // x_0 >= 1, minimise x_0; x_1 appears nowhere.
         let mut p = Program::new(2);
         p.nonneg(Affine::new(vec![(0, 1.0)], -1.0));
@@ -915,7 +933,7 @@ mod tests {
         // A constant-only contradiction.
         let mut p = Program::new(1);
         p.zero(Affine::new(vec![], 1.0));
-        assert_eq!(solve(&p).0, Answer::Infeasible);
+        assert!(matches!(solve(&p).0, Answer::Infeasible { .. }));
     }
 
     #[test]
@@ -1023,7 +1041,7 @@ mod tests {
             let form = Form::new(&p).unwrap();
             assert!(matches!(
                 attempt(&form, true),
-                Verdict::Verified(Answer::Infeasible)
+                Verdict::Verified(Answer::Infeasible { .. })
             ));
         }
     }
@@ -1144,7 +1162,10 @@ mod tests {
             let (answer, stats) = solve(&p);
             retries += stats.retries;
             if infeasible {
-                assert_eq!(answer, Answer::Infeasible, "case {case}: {p:?}");
+                assert!(
+                    matches!(answer, Answer::Infeasible { .. }),
+                    "case {case}: {p:?}"
+                );
                 continue;
             }
             let Answer::Optimal { x, value } = answer else {
@@ -1232,11 +1253,15 @@ mod tests {
                     assert!(value.abs() < 1e-8, "case {case}: {value}")
                 }
                 Answer::Uncertain { .. } => uncertain += 1,
-                Answer::Infeasible => panic!("case {case}: a feasible program called infeasible"),
+                Answer::Infeasible { .. } => {
+                    panic!("case {case}: a feasible program called infeasible")
+                }
             }
-            assert_eq!(
-                solve(&wedge_like(&mut rng, 10, 2)).0,
-                Answer::Infeasible,
+            assert!(
+                matches!(
+                    solve(&wedge_like(&mut rng, 10, 2)).0,
+                    Answer::Infeasible { .. }
+                ),
                 "case {case}"
             );
         }

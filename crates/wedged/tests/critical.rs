@@ -6,6 +6,7 @@
 //! enumerations), and a zero time limit. One ignored test (independent bodies) reproduces a
 //! known limitation of the library.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
@@ -62,11 +63,48 @@ fn random_spd(lcg: &mut Lcg, n: usize) -> DMatrix<f64> {
     &a * a.transpose() + DMatrix::from_diagonal(&d)
 }
 
+/// Every run of these tests is certified in exact arithmetic too (`--certify`), and
+/// [`solve`] insists that the certificate holds.
 fn settings(method: CriticalMethod) -> CriticalSettings {
     CriticalSettings {
         method,
+        certify: true,
         ..CriticalSettings::default()
     }
+}
+
+/// Certifications checked by [`solve`], and refutations among them solved again.
+static CERTIFIED: AtomicUsize = AtomicUsize::new(0);
+static REFUTATIONS: AtomicUsize = AtomicUsize::new(0);
+
+/// The exact certificate of a complete run: it holds (enumerate: everything but its floating
+/// enumeration), and its exact `upper` is the reported one to round-off.
+fn check_certificate(c: &Critical, method: CriticalMethod, what: &str) {
+    let cert = c.certificate.as_ref().expect("asked for");
+    if method == CriticalMethod::Enumerate {
+        assert!(
+            !cert.certified,
+            "{what}: enumerate cannot be certified whole"
+        );
+        assert_eq!(cert.failures.len(), 1, "{what}: {:?}", cert.failures);
+    } else {
+        assert!(cert.certified, "{what}, {method}: {:?}", cert.failures);
+    }
+    assert_eq!(
+        cert.refutations_failed, 0,
+        "{what}, {method}: {:?}",
+        cert.failures
+    );
+    match (c.upper, cert.upper) {
+        (Some(u), Some(exact)) => assert!(
+            (exact - u).abs() <= 1e-12 * u,
+            "{what}, {method}: exact upper {exact} against {u}"
+        ),
+        (None, None) => {}
+        (u, exact) => panic!("{what}, {method}: upper {u:?}, exact {exact:?}"),
+    }
+    CERTIFIED.fetch_add(1, Ordering::Relaxed);
+    REFUTATIONS.fetch_add(cert.refutations_checked, Ordering::Relaxed);
 }
 
 /// Runs one method, insists on a complete answer, checks the answer's shape and (when wedged)
@@ -80,6 +118,10 @@ fn solve(problem: &Problem, method: CriticalMethod, what: &str) -> Critical {
             c.undecided,
             problem.stiffness()
         ),
+        _ => check_certificate(&c, method, what),
+    }
+    match c.status {
+        CriticalStatus::Incomplete(_) => unreachable!(),
         CriticalStatus::Never => {
             assert!(
                 c.mu_critical.is_none()
@@ -447,9 +489,12 @@ fn cases() -> &'static [Case] {
             }
         }
         println!(
-            "random cases: {} solved by 3 methods in {:.2} s",
+            "random cases: {} solved by 3 methods in {:.2} s; {} runs certified exactly so \
+             far ({} refutations re-checked)",
             cases.len(),
-            start.elapsed().as_secs_f64()
+            start.elapsed().as_secs_f64(),
+            CERTIFIED.load(Ordering::Relaxed),
+            REFUTATIONS.load(Ordering::Relaxed)
         );
         cases
     })

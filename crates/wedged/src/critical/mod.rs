@@ -40,6 +40,7 @@
 //!   baseline.
 
 mod bnb;
+pub mod certify;
 mod enumerate;
 mod faces;
 
@@ -50,7 +51,7 @@ use std::time::Instant;
 use nalgebra::DMatrix;
 
 use crate::enumerate::{ContactPattern, Control, EnumerateError, Limits, NodeStatus, Stop};
-use crate::patterns::program::{Class, Counters, Decision, Formulation, Goal, Norm};
+use crate::patterns::program::{Class, Counters, Decision, Formulation, Goal, Norm, Refutation};
 use crate::patterns::Undecided;
 use crate::problem::Problem;
 
@@ -107,6 +108,9 @@ pub struct CriticalSettings {
     pub tol: f64,
     /// Bounds on the run (time and the cancel flag; rays and memory do not apply).
     pub limits: Limits,
+    /// Keep every infeasibility certificate and re-check them, and the witness, in exact
+    /// rational arithmetic ([`certify`]); the outcome is [`Critical::certificate`].
+    pub certify: bool,
 }
 
 impl Default for CriticalSettings {
@@ -115,6 +119,7 @@ impl Default for CriticalSettings {
             method: CriticalMethod::Bnb,
             tol: DEFAULT_TOL,
             limits: Limits::default(),
+            certify: false,
         }
     }
 }
@@ -226,6 +231,8 @@ pub struct Critical {
     pub undecided: Vec<Undecided>,
     /// Diagnostics.
     pub info: CriticalInfo,
+    /// The exact checks, when [`CriticalSettings::certify`] asked for them.
+    pub certificate: Option<certify::CriticalCertificate>,
 }
 
 /// Where a running search is.
@@ -269,7 +276,10 @@ pub fn critical_with_control(
     }
     let start = Instant::now();
     let control = Control::new(settings.limits, cancel);
-    let form = Formulation::new(problem);
+    let mut form = Formulation::new(problem);
+    if settings.certify {
+        form.refutations = Some(std::sync::Mutex::new(Vec::new()));
+    }
     let ctx = Ctx {
         form: &form,
         tol: settings.tol,
@@ -316,6 +326,48 @@ pub fn critical_with_control(
     if let (Some(l), Some(u)) = (lower, upper) {
         info.tol_achieved = (u - l) / u;
     }
+    let certificate = settings.certify.then(|| {
+        let refutations = form
+            .refutations
+            .take()
+            .map(|log| log.into_inner().unwrap_or_default())
+            .unwrap_or_default();
+        let closed: Option<Vec<bool>> = witness.as_ref().map(|w| {
+            w.pattern
+                .iter()
+                .map(|&p| p != ContactPattern::Separated)
+                .collect()
+        });
+        let note = (settings.method == CriticalMethod::Enumerate).then(|| {
+            "the enumerate method's lower end rests on the floating-point enumeration of \
+             patterns, which is not certified (use --method bnb or faces)"
+                .to_string()
+        });
+        let again = |f: &Refutation, mu: f64, sum: bool| -> Option<Refutation> {
+            let mut form = Formulation::new(problem);
+            form.refutations = Some(std::sync::Mutex::new(Vec::new()));
+            let norm = match (&f.pressed, sum) {
+                (Some(p), false) => Norm::Pressed(p),
+                _ => Norm::Sum,
+            };
+            match form.decide_at(&f.classes, mu, norm, Goal::Feasible) {
+                Decision::No => form.refutations.take()?.into_inner().ok()?.pop(),
+                _ => None,
+            }
+        };
+        certify::certify(
+            problem,
+            &refutations,
+            witness
+                .as_ref()
+                .zip(closed.as_ref())
+                .zip(upper)
+                .map(|((w, c), up)| (&w.u[..], &w.r[..], &c[..], up)),
+            lower.or(upper),
+            &again,
+            note,
+        )
+    });
     info.seconds = start.elapsed().as_secs_f64();
     let mut thresholds = found.thresholds;
     thresholds.sort_by(|a, b| {
@@ -334,6 +386,7 @@ pub fn critical_with_control(
         thresholds,
         undecided: found.undecided,
         info,
+        certificate,
     })
 }
 

@@ -7,6 +7,7 @@
 //! units of `K`. A node is in one of four classes ([`Class`]).
 
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 
 use crate::problem::Problem;
 use crate::socp::{solve, Affine, Answer, Program};
@@ -113,27 +114,43 @@ pub(crate) struct Support {
     pub value: f64,
 }
 
+/// An infeasibility proved by the solver, kept for an exact re-check
+/// ([`crate::critical::certify`]): a program of [`Goal::Feasible`] with these classes, at this
+/// `mu`, with this normalisation, has no solution, and `z` (one per node) are the certificate's
+/// multipliers of the gap rows `u_n_i` (`= 0` or `>= 0`), in the units of `u_n = (K^-1 r)_n`.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Refutation {
+    pub classes: Vec<Class>,
+    pub mu: f64,
+    /// `None` for [`Norm::Sum`], the listed nodes for [`Norm::Pressed`].
+    pub pressed: Option<Vec<usize>>,
+    /// Empty when the solver gave no certificate (a program without variables).
+    pub z: Vec<f64>,
+}
+
 /// The data every program of a run shares.
 pub(crate) struct Formulation<'a> {
     pub problem: &'a Problem,
     pub dim: usize,
     pub m: usize,
     pub mu: f64,
-    /// Scaled gap rows: `gap[i][c] = G[n_i, c] / max_c |G[n_i, c]|`.
+    /// Scaled gap rows: `gap[i][c] = G[n_i, c] / scale[i]`, `scale[i] = max_c |G[n_i, c]|`.
     gap: Vec<Vec<f64>>,
+    scale: Vec<f64>,
     pub counters: Counters,
+    /// When set, every infeasible [`Goal::Feasible`] program is kept here with its certificate.
+    pub refutations: Option<Mutex<Vec<Refutation>>>,
 }
 
 impl<'a> Formulation<'a> {
     pub(crate) fn new(problem: &'a Problem) -> Formulation<'a> {
         let (dim, m) = (problem.dim(), problem.nodes());
         let g = problem.compliance();
+        let scale: Vec<f64> = (0..m)
+            .map(|i| g.row(dim * i).iter().fold(0.0f64, |a, x| a.max(x.abs())))
+            .collect();
         let gap = (0..m)
-            .map(|i| {
-                let row: Vec<f64> = g.row(dim * i).iter().copied().collect();
-                let scale = row.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-                row.iter().map(|x| x / scale).collect()
-            })
+            .map(|i| g.row(dim * i).iter().map(|x| x / scale[i]).collect())
             .collect();
         Formulation {
             problem,
@@ -141,7 +158,9 @@ impl<'a> Formulation<'a> {
             m,
             mu: problem.mu(),
             gap,
+            scale,
             counters: Counters::default(),
+            refutations: None,
         }
     }
 
@@ -190,6 +209,7 @@ impl<'a> Formulation<'a> {
         }
         if vars == 0 {
             // Every reaction is zero: only the trivial solution.
+            self.refuted(classes, mu, norm, goal, Vec::new());
             return Decision::No;
         }
         let (entries, weights): (&[Entry], Option<&[f64]>) = match goal {
@@ -219,14 +239,17 @@ impl<'a> Formulation<'a> {
                 _ => None,
             })
             .collect();
+        // Each node's gap row: (is a zero row, ordinal among its kind).
+        let mut gap_rows = Vec::with_capacity(m);
         for i in 0..m {
             let c = classes[i];
-            match c {
-                Class::Contact | Class::Grazing => p.zero(gap(i, false)),
-                Class::Separated | Class::Free => {
-                    p.nonneg(gap(i, t.is_some() && entries.contains(&Entry::Gap(i))))
-                }
-            }
+            gap_rows.push(match c {
+                Class::Contact | Class::Grazing => (true, p.zero(gap(i, false))),
+                Class::Separated | Class::Free => (
+                    false,
+                    p.nonneg(gap(i, t.is_some() && entries.contains(&Entry::Gap(i)))),
+                ),
+            });
             if c.has_r() {
                 let o = offset[i];
                 // Friction: (mu r_n [- t | + w_i s], r_t) in the cone; in 2D two half-planes.
@@ -308,12 +331,44 @@ impl<'a> Formulation<'a> {
                 }
                 Decision::Yes { r, value }
             }
-            Answer::Infeasible => Decision::No,
+            Answer::Infeasible { y } => {
+                if self.refutations.is_some() && !y.is_empty() {
+                    let z = gap_rows
+                        .iter()
+                        .enumerate()
+                        .map(|(i, &(zero, k))| {
+                            let row = if zero { k } else { p.nonneg_row(k) };
+                            y[row] / self.scale[i]
+                        })
+                        .collect();
+                    self.refuted(classes, mu, norm, goal, z);
+                } else {
+                    self.refuted(classes, mu, norm, goal, Vec::new());
+                }
+                Decision::No
+            }
             Answer::Uncertain { reason } => {
                 Counters::add(&self.counters.uncertain, 1);
                 Decision::Unsure(reason)
             }
         }
+    }
+
+    /// Keeps a refutation when they are kept (and the goal is [`Goal::Feasible`]).
+    fn refuted(&self, classes: &[Class], mu: f64, norm: Norm, goal: Goal, z: Vec<f64>) {
+        let (Some(log), Goal::Feasible) = (&self.refutations, goal) else {
+            return;
+        };
+        let pressed = match norm {
+            Norm::Sum => None,
+            Norm::Pressed(nodes) => Some(nodes.to_vec()),
+        };
+        log.lock().expect("no panics while held").push(Refutation {
+            classes: classes.to_vec(),
+            mu,
+            pressed,
+            z,
+        });
     }
 
     /// The support of the cone of `classes`: the entries among `wanted` that some solution makes
