@@ -19,7 +19,6 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
-use std::time::Duration;
 
 use super::{CriticalInfo, CriticalProgress, Ctx, Found, Leaf};
 use crate::enumerate::Control;
@@ -225,7 +224,6 @@ pub(super) fn run(
         leaves: AtomicU64::new(0),
         explored: AtomicU64::new(0),
     };
-    let (finished, wait) = std::sync::mpsc::channel::<()>();
     let report = |search: &Search| {
         let best = search.incumbent();
         progress(CriticalProgress {
@@ -233,8 +231,8 @@ pub(super) fn run(
             upper: best.is_finite().then_some(best),
         });
     };
-    std::thread::scope(|scope| {
-        scope.spawn(|| {
+    crate::patterns::with_progress(
+        || {
             for bar in bars(ctx.form.mu) {
                 search.bar.store(bar.to_bits(), Ordering::Relaxed);
                 search.explored.store(0, Ordering::Relaxed);
@@ -244,15 +242,9 @@ pub(super) fn run(
                     break;
                 }
             }
-            let _ = finished.send(());
-        });
-        while let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
-            wait.recv_timeout(Duration::from_millis(200))
-        {
-            report(&search);
-        }
-    });
-    report(&search);
+        },
+        || report(&search),
+    );
     info.nodes_visited = search.visited.into_inner();
     info.pruned_infeasible = search.pruned.into_inner();
     info.leaves_solved = search.leaves.into_inner();

@@ -17,7 +17,6 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
-use std::time::Duration;
 
 use super::program::{Class, Decision, Entry, Formulation, Goal, POSITIVE};
 use super::{leaf_pattern, Found, PatternInfo, Undecided};
@@ -176,7 +175,6 @@ pub(super) fn run(
         leaves: AtomicU64::new(0),
         explored: AtomicU64::new(0),
     };
-    let (finished, wait) = std::sync::mpsc::channel::<()>();
     let report = |search: &Search| {
         let fraction = search.explored.load(Ordering::Relaxed) as f64 / (1u64 << 62) as f64;
         progress(Progress {
@@ -185,19 +183,10 @@ pub(super) fn run(
             rays: search.found.lock().map_or(0, |f| f.len()),
         });
     };
-    std::thread::scope(|scope| {
-        scope.spawn(|| {
-            search.explore(vec![Class::Free; form.m], 0, None);
-            let _ = finished.send(());
-        });
-        // Until the search sends its end (or its thread is gone).
-        while let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
-            wait.recv_timeout(Duration::from_millis(200))
-        {
-            report(&search);
-        }
-    });
-    report(&search);
+    super::with_progress(
+        || search.explore(vec![Class::Free; form.m], 0, None),
+        || report(&search),
+    );
     info.nodes_visited = search.visited.into_inner();
     info.nodes_inherited = search.inherited.into_inner();
     info.pruned_infeasible = search.pruned_infeasible.into_inner();
