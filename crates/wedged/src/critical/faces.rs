@@ -45,29 +45,45 @@ pub(super) fn run(
                 reason: why,
             })
         };
-        // A solution pressing every node, with unlimited friction.
-        let r = match ctx.form.decide_at(
+        // A solution pressing every node, with unlimited friction; when the solver cannot
+        // settle that, any nontrivial solution of the leaf (the question bnb asks of an unsure
+        // leaf: its infeasibility is the stronger certificate, and a point of it belongs to
+        // this leaf's closure all the same).
+        let mut decision = ctx.form.decide_at(
             &classes,
             f64::INFINITY,
             Norm::Pressed(&nodes),
             Goal::Feasible,
-        ) {
+        );
+        if matches!(decision, Decision::Unsure(_)) {
+            decision = ctx
+                .form
+                .decide_at(&classes, f64::INFINITY, Norm::Sum, Goal::Feasible);
+        }
+        let start = match decision {
             Decision::No => {
                 info.pruned_infeasible += 1;
                 ctx.tally.certificates.fetch_add(1, Ordering::Relaxed);
                 continue;
             }
+            // With a best threshold already, the test at it below decides this leaf instead.
+            Decision::Unsure(_) if found.best.is_some() => None,
             Decision::Unsure(why) => {
                 undecided(why);
                 continue;
             }
-            Decision::Yes { r, .. } => r,
+            Decision::Yes { r, .. } => Some(r),
         };
-        let Some((theta, r)) = ctx.exact_point(&contact, &r, f64::INFINITY) else {
-            undecided("the solver's point could not be made an exact solution".into());
-            continue;
+        let (mut hi, mut witness) = match start {
+            Some(r) => match ctx.exact_point(&contact, &r, f64::INFINITY) {
+                Some(point) => point,
+                None => {
+                    undecided("the solver's point could not be made an exact solution".into());
+                    continue;
+                }
+            },
+            None => (f64::INFINITY, Vec::new()),
         };
-        let (mut hi, mut witness) = (theta, r);
         if let Some(best) = &found.best {
             if best.theta < hi {
                 match ctx
