@@ -209,6 +209,67 @@ impl Problem {
         u
     }
 
+    /// The same problem in other units per node: `T K T`, with `T` scaling node `i`'s block by a
+    /// power of two `t_i` chosen so that the node's largest diagonal entry of `K` comes near 1.
+    /// Returns it and the `t_i`. A solution `(u', r')` of it is `(T^-1 u, T r)` of this one
+    /// (signs, complementarity and the friction cones are per node, so they are unchanged), and
+    /// every friction coefficient, threshold and `mu*` is the same. Powers of two make `T K T`
+    /// exact in floating point, so an exact certificate of it is one of this problem; when an
+    /// entry would underflow, no scaling is done (all `t_i = 1`).
+    ///
+    /// The conic methods run on it: a mesh whose stiffness varies by orders of magnitude from
+    /// node to node would otherwise give the solver badly scaled programs.
+    pub fn equilibrated(&self) -> (Problem, Vec<f64>) {
+        let d = self.dim;
+        let m = self.nodes();
+        let t: Vec<f64> = (0..m)
+            .map(|i| {
+                let top = (0..d)
+                    .map(|c| self.k[(d * i + c, d * i + c)])
+                    .fold(0.0f64, f64::max);
+                // 2^round(-log2(top) / 2): t^2 top is within a factor 2 of 1.
+                let e = (-top.log2() / 2.0).round().clamp(-500.0, 500.0) as i32;
+                2f64.powi(e)
+            })
+            .collect();
+        let n = self.k.nrows();
+        let f = |a: usize| t[a / d];
+        let k = DMatrix::from_fn(n, n, |a, b| self.k[(a, b)] * f(a) * f(b));
+        let exact = (0..n).all(|a| {
+            (0..n).all(|b| {
+                let x = k[(a, b)];
+                x.is_finite() && x / f(a) / f(b) == self.k[(a, b)]
+            })
+        });
+        if !exact {
+            return (self.clone(), vec![1.0; m]);
+        }
+        let compliance = DMatrix::from_fn(n, n, |a, b| self.compliance[(a, b)] / f(a) / f(b));
+        (
+            Problem {
+                dim: d,
+                k,
+                compliance,
+                mu: self.mu,
+            },
+            t,
+        )
+    }
+
+    /// `(u, r)` of [`Problem::equilibrated`]'s problem (scales `t`) in this problem's units,
+    /// renormalised to `sum r_n = 1`.
+    pub fn unscale(&self, t: &[f64], u: &[f64], r: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let d = self.dim;
+        let mut r: Vec<f64> = r.iter().enumerate().map(|(a, x)| x / t[a / d]).collect();
+        let mut u: Vec<f64> = u.iter().enumerate().map(|(a, x)| x * t[a / d]).collect();
+        let total: f64 = r.iter().step_by(d).sum();
+        if total > 0.0 {
+            r.iter_mut().for_each(|x| *x /= total);
+            u.iter_mut().for_each(|x| *x /= total);
+        }
+        (u, r)
+    }
+
     /// The problem with its nodes reordered: new node `a` is old node `order[a]`.
     pub fn permuted(&self, order: &[usize]) -> Problem {
         let d = self.dim;

@@ -314,3 +314,36 @@ fn the_3d_plug_wedges_and_every_piece_is_checked() {
     let q = run(&problem, PatternMethod::Pyramid { faces: 8 });
     assert_eq!(pattern_list(&p), pattern_list(&q));
 }
+
+/// Other units per node (`S K S`, node `i`'s block scaled by `s_i` from 1e-3 to 1e3): the same
+/// problem, so the same patterns, with every witness checked against the scaled problem.
+#[test]
+fn per_node_units_do_not_change_the_patterns() {
+    let mut rng = ChaCha8Rng::seed_from_u64(77);
+    let scales = [1e-3, 1e3, 1.0, 31.6, 0.0316];
+    let mut compared = 0;
+    for case in 0..12 {
+        let dim = 2 + case % 2;
+        let m = 2 + case % 4;
+        let base = random_problem(&mut rng, dim, m);
+        let k = base.stiffness();
+        let n = k.nrows();
+        let f = |a: usize| scales[(a / dim) % scales.len()];
+        let scaled = Problem::new(
+            dim,
+            DMatrix::from_fn(n, n, |a, b| f(a) * k[(a, b)] * f(b)),
+            base.mu(),
+        )
+        .unwrap();
+        let (a, b) = (
+            run(&base, PatternMethod::Bnb),
+            run(&scaled, PatternMethod::Bnb),
+        );
+        assert_eq!(pattern_list(&a), pattern_list(&b), "case {case}");
+        for p in &b.patterns {
+            check_witness(&scaled, p);
+        }
+        compared += 1;
+    }
+    assert_eq!(compared, 12);
+}

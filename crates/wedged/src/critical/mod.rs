@@ -275,6 +275,11 @@ pub fn critical_with_control(
         )));
     }
     let start = Instant::now();
+    // Everything below runs on the problem in per-node units that bring K's diagonal near 1
+    // (exactly equivalent, see Problem::equilibrated); the witness is mapped back at the end.
+    let original = problem;
+    let (scaled, scales) = problem.equilibrated();
+    let problem = &scaled;
     let control = Control::new(settings.limits, cancel);
     let mut form = Formulation::new(problem);
     if settings.certify {
@@ -370,6 +375,19 @@ pub fn critical_with_control(
     });
     info.seconds = start.elapsed().as_secs_f64();
     let mut thresholds = found.thresholds;
+    let witness = match (witness, upper) {
+        (Some(w), Some(up)) => {
+            let (u, r) = original.unscale(&scales, &w.u, &w.r);
+            check_at(original, up, &u, &r).map_err(|why| {
+                EnumerateError::InvalidSettings(format!(
+                    "the witness of mu* = {up}, in the problem's own units, failed its check, so \
+                     no answer is given: {why}"
+                ))
+            })?;
+            Some(CriticalWitness { u, r, ..w })
+        }
+        (w, _) => w,
+    };
     thresholds.sort_by(|a, b| {
         a.threshold
             .total_cmp(&b.threshold)

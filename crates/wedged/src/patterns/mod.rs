@@ -213,6 +213,11 @@ pub fn enumerate_patterns_with_control(
         _ => {}
     }
     let start = Instant::now();
+    // The search runs in per-node units that bring K's diagonal near 1 (exactly equivalent, see
+    // Problem::equilibrated); each witness is mapped back and checked again at the end.
+    let original = problem;
+    let (scaled, scales) = problem.equilibrated();
+    let problem = &scaled;
     let control = Control::new(settings.limits, cancel);
     let form = Formulation::new(problem);
     let mut info = PatternInfo::default();
@@ -239,7 +244,13 @@ pub fn enumerate_patterns_with_control(
     let mut patterns = Vec::new();
     let mut undecided = found.undecided;
     for q in maximal(found.patterns) {
-        match finish(&form, &q) {
+        let finished = finish(&form, &q).and_then(|p| {
+            let (u, r) = original.unscale(&scales, &p.u, &p.r);
+            crate::critical::check_at(original, original.mu(), &u, &r)
+                .map_err(|why| format!("the witness in the problem's own units: {why}"))?;
+            Ok(Pattern { u, r, ..p })
+        });
+        match finished {
             Ok(p) => patterns.push(p),
             Err(reason) => undecided.push(Undecided {
                 contact: q.iter().map(|&c| c == ContactPattern::Contact).collect(),
