@@ -697,11 +697,20 @@ fn algebraic_adjacent(
     scratch.clear();
     for &j in &tight {
         let row = &gap_rows[j * n..(j + 1) * n];
+        // An entry that cancels to within `tol` of its own terms is zero: otherwise a projected
+        // row of pure round-off (~1e-16) would be scaled up to unit size by `rank` and count as
+        // independent, and a true adjacency would be missed (found by the degenerate family:
+        // an edge ray of a 2-node problem lost).
         scratch.extend(columns.iter().map(|(k, v)| {
-            v.iter()
+            let (sum, size) = v
+                .iter()
                 .zip(&row[d * k..d * k + d])
-                .map(|(a, b)| a * b)
-                .sum::<f64>()
+                .fold((0.0f64, 0.0f64), |(s, z), (a, b)| (s + a * b, z + (a * b).abs()));
+            if sum.abs() <= tol * size {
+                0.0
+            } else {
+                sum
+            }
         }));
     }
     rank(scratch, tight.len(), f, tol) + 2 == f
