@@ -7,16 +7,12 @@
 mod answer;
 mod critical_out;
 mod export;
-mod msh;
-mod mtx;
 mod output;
-mod problem_file;
 mod summary;
 mod svg;
 mod sweep_svg;
 mod vtk;
 
-use std::cell::Cell;
 use std::fmt;
 use std::io::{self, IsTerminal, Write};
 use std::panic::{self, AssertUnwindSafe};
@@ -41,6 +37,7 @@ use wedged::{
 
 use crate::answer::{Answer, Choice};
 use crate::output::{JsonTarget, PendingFile};
+use wedged_cli::{mtx, one_line, problem_file};
 
 const EXIT_CODES: &str = "\
 Exit codes:
@@ -365,7 +362,7 @@ fn main() -> ExitCode {
     });
     // A panic is a bug: report it on one line, as an internal failure, without a backtrace.
     panic::set_hook(Box::new(|info| {
-        if CONTAINED_PANIC.with(Cell::get) {
+        if wedged_cli::panic_is_contained() {
             // A third-party parser's panic that the caller turns into an input error.
             return;
         }
@@ -988,19 +985,6 @@ fn write_stdout(text: &str) -> Result<(), Failure> {
 /// Set by Ctrl-C; the enumeration polls it.
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
-thread_local! {
-    static CONTAINED_PANIC: Cell<bool> = const { Cell::new(false) };
-}
-
-/// Runs `f`, catching a panic without the internal-failure report: for third-party code on
-/// hostile input (the MSH parser), whose panic the caller reports as bad input.
-pub(crate) fn contain_panic<T>(f: impl FnOnce() -> T) -> Option<T> {
-    CONTAINED_PANIC.with(|c| c.set(true));
-    let result = panic::catch_unwind(AssertUnwindSafe(f)).ok();
-    CONTAINED_PANIC.with(|c| c.set(false));
-    result
-}
-
 /// A memory size: a number of bytes, or a number with `k`, `M`, `G` or `T` (powers of 1000),
 /// optionally followed by `B`: `500M`, `2G`, `1.5GB`.
 fn parse_size(text: &str) -> Result<u64, String> {
@@ -1019,16 +1003,6 @@ fn parse_size(text: &str) -> Result<u64, String> {
             "expected a positive size such as 500M, 2G or 1500000000, got {text:?}"
         )),
     }
-}
-
-/// Collapses a possibly multi-line message into one line.
-pub(crate) fn one_line(message: &str) -> String {
-    message
-        .lines()
-        .map(str::trim)
-        .filter(|l| !l.is_empty())
-        .collect::<Vec<_>>()
-        .join("; ")
 }
 
 #[cfg(test)]

@@ -77,22 +77,27 @@ pub fn read(path: &Path) -> Result<DMatrix<f64>, MtxError> {
     let origin = path.display().to_string();
     let bytes = std::fs::read(path)
         .map_err(|e| MtxError::file(&origin, format!("cannot read file: {e}")))?;
-    let text = match String::from_utf8(bytes) {
+    parse_bytes(&bytes, &origin)
+}
+
+/// Parses the contents of a Matrix Market file, which must be UTF-8 text; `origin` names the
+/// source in messages (a path).
+pub fn parse_bytes(bytes: &[u8], origin: &str) -> Result<DMatrix<f64>, MtxError> {
+    let text = match std::str::from_utf8(bytes) {
         Ok(text) => text,
         Err(e) => {
-            let valid = e.utf8_error().valid_up_to();
-            let bytes = e.as_bytes();
+            let valid = e.valid_up_to();
             let line = 1 + bytes
                 .get(..valid)
                 .map_or(0, |b| b.iter().filter(|&&c| c == b'\n').count());
             return Err(MtxError::at(
-                &origin,
+                origin,
                 line,
                 format!("not a text file: invalid UTF-8 at byte offset {valid}"),
             ));
         }
     };
-    parse(&text, &origin)
+    parse(text, origin)
 }
 
 /// Parses Matrix Market text; `origin` names the source in messages (a path).

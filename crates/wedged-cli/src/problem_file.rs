@@ -161,25 +161,47 @@ struct RawStiffness {
 /// Reads and validates the problem in the TOML file at `path`. With `mu_on_command_line` the
 /// file's `mu` is optional and a placeholder 1.0 stands for it (the caller replaces it).
 pub fn load(path: &Path, mu_on_command_line: bool) -> Result<Loaded, LoadError> {
+    parse_str(&read_text(path)?, path, mu_on_command_line)
+}
+
+/// [`load`] of the text of a problem file, already in memory; `path` is where the file is (or
+/// would be): it names the file in messages and the files it refers to are relative to its
+/// directory (and read from there).
+pub fn parse_str(text: &str, path: &Path, mu_on_command_line: bool) -> Result<Loaded, LoadError> {
+    let (raw, err) = parse_raw(text, path)?;
     // With --mu on the command line the file's `mu` is not needed (and not read): the caller
     // replaces this placeholder with the command-line value, which the library validates.
-    load_with(path, if mu_on_command_line { Some(1.0) } else { None })
+    load_raw(
+        path,
+        raw,
+        err,
+        if mu_on_command_line { Some(1.0) } else { None },
+    )
 }
 
 /// Reads and validates the problem in the TOML file at `path` for a computation of `mu*`, which
 /// needs no friction coefficient: the file's `mu`, when given (and then validated), else 1.0.
 /// Also returns whether the file gave `mu`.
 pub fn load_for_critical(path: &Path) -> Result<(Loaded, bool), LoadError> {
-    let (raw, _) = read_raw(path)?;
+    parse_str_for_critical(&read_text(path)?, path)
+}
+
+/// [`load_for_critical`] of text in memory, as [`parse_str`].
+pub fn parse_str_for_critical(text: &str, path: &Path) -> Result<(Loaded, bool), LoadError> {
+    let (raw, err) = parse_raw(text, path)?;
     let given = raw.mu.is_some();
-    let loaded = load_with(path, if given { None } else { Some(1.0) })?;
+    let loaded = load_raw(path, raw, err, if given { None } else { Some(1.0) })?;
     Ok((loaded, given))
 }
 
-/// [`load`] with the friction coefficient to use instead of the file's (`None`: the file's,
-/// which must then be there).
-fn load_with(path: &Path, mu_instead: Option<f64>) -> Result<Loaded, LoadError> {
-    let (raw, err) = read_raw(path)?;
+/// The problem of a parsed file, with the friction coefficient to use instead of the file's
+/// (`None`: the file's, which must then be there).
+fn load_raw(
+    path: &Path,
+    raw: RawProblem,
+    err: Err,
+    mu_instead: Option<f64>,
+) -> Result<Loaded, LoadError> {
     let mu = match mu_instead {
         Some(mu) => mu,
         None => raw.mu.ok_or_else(|| {
@@ -208,7 +230,12 @@ fn load_with(path: &Path, mu_instead: Option<f64>) -> Result<Loaded, LoadError> 
 
 /// Reads a `[mesh]` problem file and condenses it; `mu` is not needed.
 pub fn load_model(path: &Path) -> Result<Model, LoadError> {
-    let (raw, err) = read_raw(path)?;
+    model_from_str(&read_text(path)?, path)
+}
+
+/// [`load_model`] of text in memory, as [`parse_str`].
+pub fn model_from_str(text: &str, path: &Path) -> Result<Model, LoadError> {
+    let (raw, err) = parse_raw(text, path)?;
     if raw.mesh.is_none() {
         return Err(err(
             "has no [mesh] table: only a meshed body can be condensed".to_string(),
@@ -222,12 +249,20 @@ pub fn load_model(path: &Path) -> Result<Model, LoadError> {
 
 type Err = Box<dyn Fn(String) -> LoadError>;
 
-fn read_raw(path: &Path) -> Result<(RawProblem, Err), LoadError> {
+/// The errors about the problem file at `path`: its name, then the message.
+fn error_for(path: &Path) -> Err {
     let name = path.display().to_string();
-    let err: Err = Box::new(move |m: String| LoadError(format!("{name}: {m}")));
-    let text =
-        fs::read_to_string(path).map_err(|e| err(format!("cannot read the problem file: {e}")))?;
-    let raw: RawProblem = toml::from_str(&text).map_err(|e| err(toml_message(&text, &e)))?;
+    Box::new(move |m: String| LoadError(format!("{name}: {m}")))
+}
+
+fn read_text(path: &Path) -> Result<String, LoadError> {
+    fs::read_to_string(path)
+        .map_err(|e| error_for(path)(format!("cannot read the problem file: {e}")))
+}
+
+fn parse_raw(text: &str, path: &Path) -> Result<(RawProblem, Err), LoadError> {
+    let err = error_for(path);
+    let raw: RawProblem = toml::from_str(text).map_err(|e| err(toml_message(text, &e)))?;
     Ok((raw, err))
 }
 
