@@ -132,6 +132,12 @@ struct CriticalArgs {
     /// Algorithm [default: bnb].
     #[arg(long, value_name = "METHOD")]
     method: Option<CriticalMethodArg>,
+    /// Re-check the answer in exact rational arithmetic: every infeasibility certificate behind
+    /// `lower` and the witness at `upper` (bnb and faces; enumerate's lower end rests on a
+    /// floating-point enumeration and is reported as not certified). Exit code 1 if a check
+    /// fails.
+    #[arg(long)]
+    certify: bool,
     #[command(flatten)]
     common: CriticalCommon,
     #[command(flatten)]
@@ -196,8 +202,8 @@ struct EnumerateArgs {
     #[arg(long, value_name = "MU", allow_negative_numbers = true)]
     mu: Option<f64>,
     /// Algorithm [default: pruned-dd for a 2D problem, bnb for a 3D one]. The ray methods
-    /// (pruned-dd, full-dd, faces) list the complementary extreme rays and the cones of a 2D
-    /// problem; the pattern methods (bnb, pyramid, pattern-faces) list the maximal sign patterns
+    /// (pruned-dd, full-dd, faces, exact) list the complementary extreme rays and the cones of a
+    /// 2D problem; the pattern methods (bnb, pyramid, pattern-faces) list the maximal sign patterns
     /// (the convex pieces, each with a witness) of a 2D or 3D problem.
     #[arg(long, value_name = "METHOD")]
     method: Option<MethodArg>,
@@ -233,13 +239,19 @@ struct EnumerateArgs {
     /// DIR are removed).
     #[arg(long, value_name = "DIR")]
     svg: Option<PathBuf>,
-    /// Certify the rays and cones of a 2D ray method (pruned-dd, full-dd, faces) in exact
+    /// Certify the rays and cones of a 2D ray method (pruned-dd, full-dd, faces, exact) in exact
     /// rational arithmetic: each ray recomputed from its status, checked extreme, feasible with
     /// exactly its status and complementary, and compared with the floating-point ray; each
     /// cone's rays checked cross-complementary. A failure is reported and the exit code is 1.
-    /// (Completeness is not certified; pattern methods are not certified yet.)
+    /// (Completeness is not certified: --exact gives a provably complete answer; pattern methods
+    /// are not certified yet.)
     #[arg(long)]
     certify: bool,
+    /// Run the whole 2D enumeration in exact rational arithmetic (the same as --method exact):
+    /// K and mu taken as the rationals their f64s are, every sign decided exactly, so the rays,
+    /// their statuses and the cones are provably all of them. Slower than pruned-dd.
+    #[arg(long)]
+    exact: bool,
 }
 
 #[derive(Debug, Args)]
@@ -290,6 +302,7 @@ impl ValueEnum for MethodArg {
             MethodArg::Rays(Method::PrunedDd),
             MethodArg::Rays(Method::FullDd),
             MethodArg::Rays(Method::Faces),
+            MethodArg::Rays(Method::Exact),
             MethodArg::Patterns(PatternMethod::Bnb),
             MethodArg::Patterns(PatternMethod::Pyramid {
                 faces: DEFAULT_PYRAMID_FACES,
@@ -306,6 +319,9 @@ impl ValueEnum for MethodArg {
             }
             MethodArg::Rays(Method::Faces) => {
                 "2D rays: brute force over the 2^m contact sets (small m only)"
+            }
+            MethodArg::Rays(Method::Exact) => {
+                "2D rays: double description in exact rational arithmetic (as --exact)"
             }
             MethodArg::Patterns(PatternMethod::Bnb) => {
                 "patterns (2D, 3D): branch and bound with conic relaxations"
@@ -442,11 +458,28 @@ fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
     let mut limits = time_limits(args.time_limit)?;
     limits.max_rays = args.max_rays;
     limits.max_memory = args.max_memory;
-    let method = args.method.unwrap_or(if problem.dim() == 2 {
-        MethodArg::Rays(Method::PrunedDd)
-    } else {
-        MethodArg::Patterns(PatternMethod::Bnb)
-    });
+    if args.exact {
+        if let Some(other) = args.method.filter(|&m| m != MethodArg::Rays(Method::Exact)) {
+            return Err(Failure::Input(format!(
+                "--exact runs the exact 2D ray enumeration (--method exact); it cannot be \
+                 combined with --method {}",
+                other.name()
+            )));
+        }
+        if problem.dim() != 2 {
+            return Err(Failure::Input(format!(
+                "{source}: dim = {}: --exact enumerates the rays of a 2D problem; a 3D problem \
+                 has sign patterns instead (--method bnb or pyramid)",
+                problem.dim()
+            )));
+        }
+    }
+    let method = match args.method {
+        Some(m) => m,
+        None if args.exact => MethodArg::Rays(Method::Exact),
+        None if problem.dim() == 2 => MethodArg::Rays(Method::PrunedDd),
+        None => MethodArg::Patterns(PatternMethod::Bnb),
+    };
     if faces.is_some() && !matches!(method, MethodArg::Patterns(PatternMethod::Pyramid { .. })) {
         return Err(Failure::Input(format!(
             "--pyramid-faces is used by --method pyramid only, and the method is {}",
@@ -591,6 +624,7 @@ struct CriticalJob<'a> {
 fn critical_job<'a>(
     problem: &Path,
     method: CriticalMethod,
+    certify: bool,
     common: &CriticalCommon,
     json: Option<&'a Path>,
     svg: Option<&'a Path>,
@@ -606,7 +640,7 @@ fn critical_job<'a>(
             method,
             tol: common.tol.unwrap_or(wedged::critical::DEFAULT_TOL),
             limits,
-            certify: false,
+            certify,
         },
         source: problem.display().to_string(),
         json,
@@ -616,9 +650,17 @@ fn critical_job<'a>(
 
 fn run_critical(args: CriticalArgs) -> Result<(), Failure> {
     let method = args.method.map_or(CriticalMethod::Bnb, |m| m.0);
+    if args.certify && method == CriticalMethod::Enumerate {
+        return Err(Failure::Input(
+            "--certify needs --method bnb or faces: the enumerate method's lower end rests on \
+             a floating-point enumeration of patterns, which is not certified"
+                .to_string(),
+        ));
+    }
     let job = critical_job(
         &args.problem,
         method,
+        args.certify,
         &args.common,
         args.json.json.as_deref(),
         None,
@@ -630,6 +672,7 @@ fn run_sweep(args: SweepArgs) -> Result<(), Failure> {
     let job = critical_job(
         &args.problem,
         CriticalMethod::Enumerate,
+        false,
         &args.common,
         args.json.json.as_deref(),
         Some(&args.svg),
@@ -710,6 +753,16 @@ fn report_critical(job: CriticalJob) -> Result<(), Failure> {
             .map_err(|e| Failure::Input(e.to_string()))?;
     }
     write_stdout(&stdout_text)?;
+    if let Some(c) = result.certificate.as_ref().filter(|c| !c.certified) {
+        return Err(Failure::Internal(format!(
+            "{source}: exact certification of mu* failed ({}; first: {})",
+            match c.failures.len() {
+                1 => "1 check".to_string(),
+                n => format!("{n} checks"),
+            },
+            c.failures.first().map_or("", String::as_str)
+        )));
+    }
     match incomplete {
         Some(stop) => Err(Failure::Incomplete(critical_incomplete_text(
             &source, &result, stop,

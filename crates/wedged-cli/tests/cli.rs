@@ -1372,3 +1372,82 @@ fn certify_flag_is_not_available_for_patterns() {
     let report: Value = serde_json::from_str(&stdout(&out)).unwrap();
     assert_eq!(report["certified"], Value::Null);
 }
+
+/// The rays (statuses and values) and cones of a `--json -` report.
+fn rays_and_cones(report: &Value) -> (Vec<Value>, Vec<Vec<f64>>, Value) {
+    let rays = report["rays"].as_array().unwrap();
+    let statuses = rays.iter().map(|r| r["status"].clone()).collect();
+    let values = rays.iter().map(|r| floats(&r["r"])).collect();
+    (statuses, values, report["cones"].clone())
+}
+
+#[test]
+fn exact_flag_gives_the_rays_of_pruned_dd() {
+    // The fixture, and the example plug of examples/plug2d.toml on a coarser mesh (m = 6).
+    let plug = fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plug2d.toml"),
+    )
+    .unwrap()
+    .replace("nx = 8 ", "nx = 4 ")
+    .replace("ny = 6 ", "ny = 3 ");
+    assert!(
+        plug.contains("nx = 4 ") && plug.contains("ny = 3 "),
+        "{plug}"
+    );
+    let dir = dir_with(&[("plug.toml", &plug)]);
+    let plug_path = path_in(&dir, "plug.toml");
+    for (path, mu) in [
+        (fixture("coupled_array.toml"), "1.5"),
+        (plug_path.clone(), "1.8"),
+        (plug_path, "3"),
+    ] {
+        let run = |extra: &[&str]| {
+            let mut args = vec!["enumerate", path.as_str(), "--mu", mu, "--json", "-"];
+            args.extend_from_slice(extra);
+            let out = wedged(&args);
+            assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+            json_stdout(&out)
+        };
+        let exact = run(&["--exact", "--certify"]);
+        assert_eq!(exact["method"], "exact");
+        assert_eq!(exact["certified"], Value::Bool(true));
+        let pruned = run(&["--method", "pruned-dd"]);
+        let (se, ve, ce) = rays_and_cones(&exact);
+        let (sp, vp, cp) = rays_and_cones(&pruned);
+        assert_eq!(se, sp, "{path}, mu {mu}");
+        assert_eq!(ce, cp, "{path}, mu {mu}");
+        for (a, b) in ve.iter().zip(&vp) {
+            let d = a
+                .iter()
+                .zip(b)
+                .fold(0.0f64, |d, (x, y)| d.max((x - y).abs()));
+            assert!(d < 1e-9, "{path}, mu {mu}: rays differ by {d}");
+        }
+        // --method exact is the same run.
+        let method = run(&["--method", "exact"]);
+        assert_eq!(rays_and_cones(&method), (se, ve, ce));
+    }
+    // The summary names the method.
+    let out = wedged(&["enumerate", &fixture("coupled_array.toml"), "--exact"]);
+    assert_success(&out);
+    assert!(stdout(&out).contains("method exact"), "{}", stdout(&out));
+}
+
+#[test]
+fn exact_flag_needs_a_2d_ray_enumeration() {
+    let (_, _dir, path) = random_3d(1.5, 1);
+    let out = wedged(&["enumerate", &path, "--exact"]);
+    assert_bad_input(&out, &[&path, "dim = 3", "--exact", "2D"]);
+    let out = wedged(&["enumerate", &path, "--method", "exact"]);
+    assert_bad_input(&out, &[&path, "dim = 3", "exact"]);
+    for method in ["pruned-dd", "bnb"] {
+        let out = wedged(&[
+            "enumerate",
+            &fixture("coupled_array.toml"),
+            "--exact",
+            "--method",
+            method,
+        ]);
+        assert_bad_input(&out, &["--exact", method]);
+    }
+}

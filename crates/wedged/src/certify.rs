@@ -33,9 +33,13 @@
 //! For each reported cone, its rays are pairwise cross-complementary (exactly: no node where one
 //! ray has `u_n > 0` and another `r_n > 0`) and its pattern is the one of its rays.
 //!
-//! **Not certified (yet):** completeness, that no complementary extreme ray and no cone is
-//! missing, and that the cones are maximal. Sign patterns (the pattern methods, 3D) are not
-//! certified either.
+//! **Not certified here:** completeness, that no complementary extreme ray and no cone is
+//! missing, and that the cones are maximal. For that, compare with the exact enumeration of
+//! [`crate::exact`] (`--exact`), which finds every complementary extreme ray in exact arithmetic.
+//! Sign patterns (the pattern methods, 3D) are not certified either.
+//!
+//! [`exact_ray_of_status`] exposes checks 1 to 4 alone: from a status vector to its exact ray,
+//! or why there is none (the exact brute force of [`crate::exact::brute_force_exact`]).
 
 use num_bigint::BigInt;
 use num_integer::Integer;
@@ -74,28 +78,61 @@ pub struct ExactRay {
 }
 
 /// The problem's data as exact rationals.
-struct ExactProblem {
+pub(crate) struct ExactProblem {
     /// `K`, `n x n` (`n = 2m`), row-major.
-    k: Vec<Vec<BigRational>>,
-    mu: BigRational,
-    n: usize,
+    pub(crate) k: Vec<Vec<BigRational>>,
+    pub(crate) mu: BigRational,
+    pub(crate) n: usize,
+    /// The `4m` inequality rows in `u` (`r = K u` substituted), row `4 i + k` for inequality `k`
+    /// of node `i` in the order of [`INEQUALITIES`], each a primitive integer vector (a positive
+    /// multiple of the rational row: same sign, same zero set).
+    pub(crate) rows: Vec<Vec<BigInt>>,
+    /// `sum_i r_n_i` as a row in `u`, a positive integer multiple.
+    pub(crate) sum_rn: Vec<BigInt>,
 }
 
 impl ExactProblem {
-    fn new(problem: &Problem) -> ExactProblem {
-        let k = problem.stiffness();
-        let n = k.nrows();
+    pub(crate) fn new(problem: &Problem) -> ExactProblem {
+        let stiffness = problem.stiffness();
+        let n = stiffness.nrows();
+        let k: Vec<Vec<BigRational>> = (0..n)
+            .map(|i| (0..n).map(|j| exact(stiffness[(i, j)])).collect())
+            .collect();
+        let mu = exact(problem.mu());
+        let rows = (0..2 * n)
+            .map(|id| {
+                let (i, kind) = (id / 4, id % 4);
+                let (kn, kt) = (&k[2 * i], &k[2 * i + 1]);
+                let row: Vec<BigRational> = (0..n)
+                    .map(|j| match kind {
+                        0 if j == 2 * i => BigRational::one(),
+                        0 => BigRational::zero(),
+                        1 => kn[j].clone(),
+                        2 => &mu * &kn[j] - &kt[j],
+                        _ => &mu * &kn[j] + &kt[j],
+                    })
+                    .collect();
+                integer_row(&row)
+            })
+            .collect();
+        let sum: Vec<BigRational> = (0..n)
+            .map(|j| {
+                (0..n / 2)
+                    .map(|i| &k[2 * i][j])
+                    .fold(BigRational::zero(), |s, x| s + x)
+            })
+            .collect();
         ExactProblem {
-            k: (0..n)
-                .map(|i| (0..n).map(|j| exact(k[(i, j)])).collect())
-                .collect(),
-            mu: exact(problem.mu()),
+            sum_rn: integer_row(&sum),
+            k,
+            mu,
             n,
+            rows,
         }
     }
 
     /// `r = K u`.
-    fn reaction(&self, u: &[BigRational]) -> Vec<BigRational> {
+    pub(crate) fn reaction(&self, u: &[BigRational]) -> Vec<BigRational> {
         self.k
             .iter()
             .map(|row| {
@@ -179,7 +216,7 @@ pub fn certify_ray_exact(problem: &Problem, ray: &Ray) -> Result<ExactRay, Vec<S
 const INEQUALITIES: [&str; 4] = ["u_n >= 0", "r_n >= 0", "r_t <= mu r_n", "-mu r_n <= r_t"];
 
 /// Which of the four inequalities `status` makes tight; `None` for a status a 2D ray cannot have.
-fn tight_set(status: NodeStatus) -> Option<[bool; 4]> {
+pub(crate) fn tight_set(status: NodeStatus) -> Option<[bool; 4]> {
     match status {
         NodeStatus::Separated => Some([false, true, true, true]),
         NodeStatus::Grazing => Some([true, true, true, true]),
@@ -201,8 +238,90 @@ fn certify_ray(p: &ExactProblem, ray: &Ray) -> Result<ExactRay, Vec<String>> {
             ray.r.len()
         )]);
     }
+    // Checks 1 to 4; a failure of 1 or 2 leaves no ray to compare.
+    let (exact_ray, mut failures) = recompute(p, &ray.status, true)?;
+    let ExactRay { u, r } = &exact_ray;
+    // 5. Agreement with the floating-point ray.
+    for (name, exact, reported) in [("u", u, &ray.u), ("r", r, &ray.r)] {
+        let rounded: Vec<f64> = exact.iter().map(to_f64).collect();
+        let largest = rounded.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        for (j, (x, y)) in rounded.iter().zip(reported.iter()).enumerate() {
+            // Written so that a NaN fails.
+            let agrees = (x - y).abs() <= AGREEMENT * largest;
+            if !agrees {
+                failures.push(format!(
+                    "{name}[{j}] (node {}, {}) is {y:e}, the exact ray has {x:e} (difference \
+                     {:e}, allowed {:e})",
+                    j / 2 + 1,
+                    if j % 2 == 0 { "normal" } else { "tangent" },
+                    (x - y).abs(),
+                    AGREEMENT * largest
+                ));
+                break;
+            }
+        }
+    }
+    if failures.is_empty() {
+        Ok(exact_ray)
+    } else {
+        Err(failures)
+    }
+}
+
+/// The ray that a status vector determines, exactly, normalised to `sum r_n = 1`, when it is an
+/// extreme ray of `C` with exactly that status (checks 1 to 4 of the module documentation:
+/// extreme, nontrivial, feasible with the tight and strict inequalities exactly as the status
+/// says, complementary); otherwise one line per failed check. No floating-point ray is involved.
+///
+/// This is how the exact brute force ([`crate::exact::brute_force_exact`]) finds its rays.
+pub fn exact_ray_of_status(
+    problem: &Problem,
+    status: &[NodeStatus],
+) -> Result<ExactRay, Vec<String>> {
+    if problem.dim() != 2 {
+        return Err(vec!["exact rays need a 2D problem".into()]);
+    }
+    ray_of_status(&ExactProblem::new(problem), status)
+}
+
+/// [`exact_ray_of_status`] on data already converted.
+pub(crate) fn ray_of_status(
+    p: &ExactProblem,
+    status: &[NodeStatus],
+) -> Result<ExactRay, Vec<String>> {
+    match recompute(p, status, true)? {
+        (x, failures) if failures.is_empty() => Ok(x),
+        (_, failures) => Err(failures),
+    }
+}
+
+/// The ray of `status` if it is an extreme ray of `C` with exactly that status, without saying
+/// why not otherwise (the exact brute force's inner loop: most candidates fail, cheaply).
+pub(crate) fn ray_of_status_quiet(p: &ExactProblem, status: &[NodeStatus]) -> Option<ExactRay> {
+    match recompute(p, status, false) {
+        Ok((x, failures)) if failures.is_empty() => Some(x),
+        _ => None,
+    }
+}
+
+/// Checks 1 and 2 (an error ends there: there is no ray), then the ray with the failures of
+/// checks 3 and 4. The signs are decided on integer rows; without `detail`, a failure of check 3
+/// or 4 ends the computation at once with no message (and no rational arithmetic).
+fn recompute(
+    p: &ExactProblem,
+    status: &[NodeStatus],
+    detail: bool,
+) -> Result<(ExactRay, Vec<String>), Vec<String>> {
+    let n = p.n;
+    let m = n / 2;
+    if status.len() != m {
+        return Err(vec![format!(
+            "wrong length: {} statuses for {m} nodes",
+            status.len()
+        )]);
+    }
     let mut tight = Vec::with_capacity(m);
-    for (i, &s) in ray.status.iter().enumerate() {
+    for (i, &s) in status.iter().enumerate() {
         match tight_set(s) {
             Some(t) => tight.push(t),
             None => {
@@ -220,21 +339,25 @@ fn certify_ray(p: &ExactProblem, ray: &Ray) -> Result<ExactRay, Vec<String>> {
     let columns: Vec<usize> = (0..n)
         .filter(|&j| !(j % 2 == 0 && tight[j / 2][0]))
         .collect();
-    let mut rows: Vec<Vec<BigRational>> = Vec::new();
-    for (i, t) in tight.iter().enumerate() {
-        let (kn, kt) = (&p.k[2 * i], &p.k[2 * i + 1]);
-        let row = |f: &dyn Fn(usize) -> BigRational| columns.iter().map(|&j| f(j)).collect();
-        if t[1] {
-            rows.push(row(&|j| kn[j].clone()));
-        }
-        if t[2] {
-            rows.push(row(&|j| &p.mu * &kn[j] - &kt[j]));
-        }
-        if t[3] {
-            rows.push(row(&|j| &p.mu * &kn[j] + &kt[j]));
-        }
+    // Fewer tight rows than 4m - 1 cannot have that rank: no elimination needed.
+    let tight_rows: usize = tight.iter().map(|t| t.iter().filter(|&&x| x).count()).sum();
+    if tight_rows + n < 2 * n - 1 {
+        return Err(vec![format!(
+            "not extreme: only {} constraints are tight with the equalities, an extreme ray \
+             needs rank {}",
+            tight_rows + n,
+            2 * n - 1
+        )]);
     }
-    let (rank, null) = null_space(&rows, columns.len());
+    // The tight rows other than gaps, on the remaining columns (dropping columns whose variable
+    // is fixed at zero keeps the null space).
+    let rows: Vec<Vec<BigInt>> = tight
+        .iter()
+        .enumerate()
+        .flat_map(|(i, t)| (1..4).filter(|&k| t[k]).map(move |k| 4 * i + k))
+        .map(|id| columns.iter().map(|&j| p.rows[id][j].clone()).collect())
+        .collect();
+    let (rank, null) = null_space_int(rows, columns.len());
     // The tight gaps add one independent row each.
     let total_rank = rank + (n - columns.len()) + n;
     if total_rank != 2 * n - 1 {
@@ -247,18 +370,51 @@ fn certify_ray(p: &ExactProblem, ray: &Ray) -> Result<ExactRay, Vec<String>> {
     let Some(null) = null else {
         return Err(vec!["internal: no null vector at rank 4m - 1".into()]);
     };
-    let mut u = vec![BigRational::zero(); n];
-    for (&j, x) in columns.iter().zip(null) {
-        u[j] = x;
+    let mut x = vec![BigInt::zero(); n];
+    for (&j, v) in columns.iter().zip(integer_row(&null)) {
+        x[j] = v;
     }
-    let mut r = p.reaction(&u);
-    // 2. Orientation and normalisation.
-    let total = r.iter().step_by(2).fold(BigRational::zero(), |s, x| s + x);
+    // 2. Orientation (sum r_n > 0).
+    let dot = |row: &[BigInt]| {
+        row.iter()
+            .zip(&x)
+            .filter(|(a, b)| !a.is_zero() && !b.is_zero())
+            .fold(BigInt::zero(), |s, (a, b)| s + a * b)
+    };
+    let total = dot(&p.sum_rn);
     if total.is_zero() {
         return Err(vec![
             "trivial: the ray of its tight constraints has sum r_n = 0".into(),
         ]);
     }
+    let flip = total.is_negative();
+    // 3 and 4 on integers first: each row is a positive multiple of its inequality.
+    let signs_right = tight.iter().enumerate().all(|(i, t)| {
+        let values: Vec<BigInt> = (0..4)
+            .map(|k| {
+                let v = dot(&p.rows[4 * i + k]);
+                if flip {
+                    -v
+                } else {
+                    v
+                }
+            })
+            .collect();
+        let right = values
+            .iter()
+            .zip(t)
+            .all(|(v, &tight)| if tight { v.is_zero() } else { v.is_positive() });
+        right && !(values[0].is_positive() && values[1].is_positive())
+    });
+    if !signs_right && !detail {
+        return Err(Vec::new());
+    }
+    let mut u: Vec<BigRational> = x
+        .into_iter()
+        .map(|v| BigRational::from_integer(if flip { -v } else { v }))
+        .collect();
+    let mut r = p.reaction(&u);
+    let total = r.iter().step_by(2).fold(BigRational::zero(), |s, x| s + x);
     let scale = total.recip();
     for x in u.iter_mut().chain(r.iter_mut()) {
         *x = &*x * &scale;
@@ -282,14 +438,14 @@ fn certify_ray(p: &ExactProblem, ray: &Ray) -> Result<ExactRay, Vec<String>> {
                     "node {}: {} should be tight for {} but holds strictly",
                     i + 1,
                     INEQUALITIES[k],
-                    ray_status_name(ray, i)
+                    status[i].name()
                 ));
             } else if !t[k] && v.is_zero() {
                 failures.push(format!(
                     "node {}: {} should hold strictly for {} but is tight",
                     i + 1,
                     INEQUALITIES[k],
-                    ray_status_name(ray, i)
+                    status[i].name()
                 ));
             }
         }
@@ -301,35 +457,7 @@ fn certify_ray(p: &ExactProblem, ray: &Ray) -> Result<ExactRay, Vec<String>> {
             ));
         }
     }
-    // 5. Agreement with the floating-point ray.
-    for (name, exact, reported) in [("u", &u, &ray.u), ("r", &r, &ray.r)] {
-        let rounded: Vec<f64> = exact.iter().map(to_f64).collect();
-        let largest = rounded.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-        for (j, (x, y)) in rounded.iter().zip(reported.iter()).enumerate() {
-            // Written so that a NaN fails.
-            let agrees = (x - y).abs() <= AGREEMENT * largest;
-            if !agrees {
-                failures.push(format!(
-                    "{name}[{j}] (node {}, {}) is {y:e}, the exact ray has {x:e} (difference \
-                     {:e}, allowed {:e})",
-                    j / 2 + 1,
-                    if j % 2 == 0 { "normal" } else { "tangent" },
-                    (x - y).abs(),
-                    AGREEMENT * largest
-                ));
-                break;
-            }
-        }
-    }
-    if failures.is_empty() {
-        Ok(ExactRay { u, r })
-    } else {
-        Err(failures)
-    }
-}
-
-fn ray_status_name(ray: &Ray, i: usize) -> &'static str {
-    ray.status[i].name()
+    Ok((ExactRay { u, r }, failures))
 }
 
 /// The nearest `f64` (or infinity, or NaN if it has none).
@@ -401,12 +529,20 @@ fn check_cone(
     failures
 }
 
-/// The rank of `rows` (each of length `ncols`) and, when the rank is `ncols - 1`, a nonzero
-/// vector of their null space. Rows are scaled to primitive integer vectors and eliminated
-/// fraction-free (Bareiss), so that every intermediate entry is a minor of the integer matrix;
-/// the null vector comes from back substitution in rationals.
+/// [`null_space_int`] of rational rows, each scaled to a primitive integer vector first.
+#[cfg(test)]
 fn null_space(rows: &[Vec<BigRational>], ncols: usize) -> (usize, Option<Vec<BigRational>>) {
-    let mut a: Vec<Vec<BigInt>> = rows.iter().map(|row| integer_row(row)).collect();
+    null_space_int(rows.iter().map(|row| integer_row(row)).collect(), ncols)
+}
+
+/// The rank of the integer rows `a` (each of length `ncols`) and, when the rank is `ncols - 1`,
+/// a nonzero vector of their null space. Eliminated fraction-free (Bareiss), so that every
+/// intermediate entry is a minor of the integer matrix; the null vector comes from back
+/// substitution in rationals.
+pub(crate) fn null_space_int(
+    mut a: Vec<Vec<BigInt>>,
+    ncols: usize,
+) -> (usize, Option<Vec<BigRational>>) {
     let nrows = a.len();
     let mut pivots: Vec<usize> = Vec::new();
     let mut prev = BigInt::one();
@@ -458,7 +594,7 @@ fn null_space(rows: &[Vec<BigRational>], ncols: usize) -> (usize, Option<Vec<Big
 }
 
 /// A rational row scaled to a primitive integer row (the same null space).
-fn integer_row(row: &[BigRational]) -> Vec<BigInt> {
+pub(crate) fn integer_row(row: &[BigRational]) -> Vec<BigInt> {
     let denominator = row.iter().fold(BigInt::one(), |l, x| l.lcm(x.denom()));
     let ints: Vec<BigInt> = row
         .iter()

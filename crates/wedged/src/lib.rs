@@ -47,6 +47,7 @@ pub mod certify;
 pub mod cliques;
 pub mod critical;
 pub mod enumerate;
+pub mod exact;
 pub mod examples;
 pub mod fe;
 pub(crate) mod linalg;

@@ -9,6 +9,9 @@
 //! - [`Method::FullDd`] (`dd.rs`, full variant): all extreme rays of `C` by double description,
 //!   then a complementarity filter.
 //! - [`Method::Faces`] (`faces.rs`): brute force over the `2^m` contact sets.
+//! - [`Method::Exact`] ([`crate::exact`]): double description in exact integer arithmetic, no
+//!   tolerance anywhere; its rays are exact (rounded to `f64` only for output), so they skip the
+//!   floating-point check of the finishing step.
 
 pub(crate) mod dd;
 mod faces;
@@ -32,6 +35,10 @@ pub enum Method {
     FullDd,
     /// Brute force over the `2^m` contact sets, the extreme rays of each face.
     Faces,
+    /// Double description in exact arithmetic ([`crate::exact`]): every `f64` of `K` and `mu`
+    /// taken as the rational it is, every sign decided exactly, so the rays, their statuses and
+    /// the cones are provably all of them (`zero_tol` is not used). Slower than the others.
+    Exact,
 }
 
 impl Method {
@@ -41,11 +48,17 @@ impl Method {
             Method::PrunedDd => "pruned-dd",
             Method::FullDd => "full-dd",
             Method::Faces => "faces",
+            Method::Exact => "exact",
         }
     }
 
     /// Every method, in a fixed order.
-    pub const ALL: [Method; 3] = [Method::PrunedDd, Method::FullDd, Method::Faces];
+    pub const ALL: [Method; 4] = [
+        Method::PrunedDd,
+        Method::FullDd,
+        Method::Faces,
+        Method::Exact,
+    ];
 }
 
 impl fmt::Display for Method {
@@ -471,10 +484,25 @@ pub fn enumerate_with_control(
     let start = Instant::now();
     let control = Control::new(settings.limits, cancel);
     let mut info = Info::default();
+    let mut exact_rays: Vec<Ray> = Vec::new();
     let raw = if control.must_stop(0) {
         Vec::new()
     } else {
         match settings.method {
+            // Exact rays need no floating-point check: they go straight to the finishing step.
+            Method::Exact => {
+                exact_rays = crate::exact::run(
+                    problem,
+                    crate::exact::Variant::Pruned,
+                    &mut info,
+                    progress,
+                    &control,
+                )?
+                .iter()
+                .map(crate::exact::ExactSolution::rounded)
+                .collect();
+                Vec::new()
+            }
             Method::PrunedDd => dd::run(
                 problem,
                 &dd::Friction::planar(problem.mu()),
@@ -496,7 +524,7 @@ pub fn enumerate_with_control(
             Method::Faces => faces::run(problem, settings, &mut info, &control),
         }
     };
-    let mut rays = Vec::with_capacity(raw.len());
+    let mut rays = exact_rays;
     for raw_ray in raw {
         rays.push(polish_and_verify(
             problem,
@@ -572,7 +600,7 @@ pub(crate) fn cones_of_status(statuses: &[Vec<NodeStatus>]) -> Vec<Vec<ContactPa
         .collect()
 }
 
-fn cones_of_statuses(statuses: &[&[NodeStatus]]) -> Vec<Cone> {
+pub(crate) fn cones_of_statuses(statuses: &[&[NodeStatus]]) -> Vec<Cone> {
     let p = statuses.len();
     let adjacent: Vec<Vec<bool>> = (0..p)
         .map(|i| {
