@@ -9,7 +9,10 @@
 //!   "pattern": ["contact" | "separated" | "grazing", ..] | null,
 //!   "thresholds": [ { "pattern": [..], "threshold": 1.9, "lower": 1.9 } ],
 //!   "undecided": [ { "contact": [true | false, ..], "reason": ".." } ],
-//!   "info": { every field of wedged::CriticalInfo },
+//!   "info": { every field of wedged::CriticalInfo, "peak_rss_bytes": 7340032 | null },
+//!   "certified": true | false | null,                  (null without --certify)
+//!   "certificate": { "upper": 1.78 | null, "refutations_checked": 148,
+//!                    "refutations_failed": 0, "resolved": 0, "failures": [".."] } | null,
 //!   "model": { .. },                                   (meshed bodies only, as in `enumerate`)
 //!   "version": "0.1.0" }
 //! ```
@@ -71,9 +74,25 @@ pub struct CriticalReport<'a> {
     pub thresholds: Vec<ThresholdJson>,
     pub undecided: Vec<UndecidedJson<'a>>,
     pub info: CriticalInfoJson,
+    /// `true` or `false` with `--certify` (every exact check passed or not), else `null`.
+    pub certified: Option<bool>,
+    /// The exact checks of `--certify` (`null` without it).
+    pub certificate: Option<CertificateJson<'a>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub model: Option<ModelJson>,
     pub version: &'static str,
+}
+
+/// The exact checks of `--certify` ([`wedged::critical::certify::CriticalCertificate`]).
+#[derive(Debug, Serialize)]
+pub struct CertificateJson<'a> {
+    /// The least `f64` at which the exactly recomputed witness solves WP.
+    pub upper: Option<f64>,
+    pub refutations_checked: usize,
+    pub refutations_failed: usize,
+    /// Certificates that failed at first and passed when solved again at `lower`.
+    pub resolved: usize,
+    pub failures: &'a [String],
 }
 
 /// The solution at `mu = upper`.
@@ -112,6 +131,8 @@ pub struct CriticalInfoJson {
     pub retries: u64,
     pub uncertain: u64,
     pub seconds: f64,
+    /// The process's peak resident memory ([`crate::output::peak_rss_bytes`]).
+    pub peak_rss_bytes: Option<u64>,
 }
 
 impl CriticalInfoJson {
@@ -150,6 +171,7 @@ impl CriticalInfoJson {
             retries,
             uncertain,
             seconds,
+            peak_rss_bytes: crate::output::peak_rss_bytes(),
         }
     }
 }
@@ -201,6 +223,14 @@ impl<'a> CriticalReport<'a> {
                 .collect(),
             undecided: result.undecided.iter().map(UndecidedJson::from).collect(),
             info: CriticalInfoJson::new(&result.info, bracketed),
+            certified: result.certificate.as_ref().map(|c| c.certified),
+            certificate: result.certificate.as_ref().map(|c| CertificateJson {
+                upper: c.upper,
+                refutations_checked: c.refutations_checked,
+                refutations_failed: c.refutations_failed,
+                resolved: c.resolved,
+                failures: &c.failures,
+            }),
             model: model.map(ModelJson::new),
             version: env!("CARGO_PKG_VERSION"),
         }
@@ -398,12 +428,50 @@ pub fn render(
         out.push('\n');
         thresholds_table(&mut out, problem, result);
     }
+    if let Some(c) = &result.certificate {
+        certificate_lines(&mut out, c);
+    }
     out.push('\n');
     info_lines(&mut out, problem, result);
     if let Some(path) = json {
         let _ = writeln!(out, "JSON written to {}", path.display());
     }
     out
+}
+
+/// What `--certify` found.
+fn certificate_lines(out: &mut String, c: &wedged::critical::certify::CriticalCertificate) {
+    let checked = plural(
+        c.refutations_checked,
+        "infeasibility certificate",
+        "infeasibility certificates",
+    );
+    let witness = match c.upper {
+        Some(u) => format!("the witness, recomputed exactly, solves WP at mu = {u}"),
+        None => "no witness certified".to_string(),
+    };
+    if c.certified {
+        wrapped(
+            out,
+            0,
+            2,
+            &format!("certified in exact rational arithmetic: {checked} re-checked; {witness}"),
+        );
+    } else {
+        wrapped(
+            out,
+            0,
+            2,
+            &format!(
+                "NOT CERTIFIED in exact rational arithmetic ({checked} re-checked, {} failed; \
+                 {witness}):",
+                c.refutations_failed
+            ),
+        );
+        for f in &c.failures {
+            wrapped(out, 2, 4, &format!("- {f}"));
+        }
+    }
 }
 
 /// The witness's nodes: one line each (status, gap, pressure, friction ratio), or for many nodes
@@ -520,7 +588,13 @@ fn thresholds_table(out: &mut String, problem: &Problem, result: &Critical) {
 fn info_lines(out: &mut String, problem: &Problem, result: &Critical) {
     let info = &result.info;
     let m = problem.nodes();
-    let _ = writeln!(out, "info: {}, {}", info.method, seconds_text(info.seconds));
+    let memory = crate::output::peak_memory_text();
+    let _ = writeln!(
+        out,
+        "info: {}, {}{memory}",
+        info.method,
+        seconds_text(info.seconds)
+    );
     let mut search = Vec::new();
     if let Some(mu) = info.mu_enumerated {
         search.push(format!(
@@ -630,6 +704,7 @@ mod tests {
             witness: None,
             thresholds: Vec::new(),
             undecided: Vec::new(),
+            certificate: None,
             info: CriticalInfo {
                 tol_achieved: (1.788_243_05 - 1.788_241_37) / 1.788_243_05,
                 ..CriticalInfo::default()

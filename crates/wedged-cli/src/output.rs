@@ -227,6 +227,8 @@ pub struct PatternInfoJson {
     pub near_degenerate: u64,
     pub realised: u64,
     pub seconds: f64,
+    /// The process's peak resident memory (see [`peak_rss_bytes`]).
+    pub peak_rss_bytes: Option<u64>,
 }
 
 impl PatternInfoJson {
@@ -265,6 +267,7 @@ impl PatternInfoJson {
             near_degenerate,
             realised,
             seconds,
+            peak_rss_bytes: peak_rss_bytes(),
         }
     }
 }
@@ -285,6 +288,8 @@ pub struct RayInfoJson<'a> {
     pub extreme_rays_total: usize,
     pub near_degenerate: u64,
     pub seconds: f64,
+    /// The process's peak resident memory (see [`peak_rss_bytes`]).
+    pub peak_rss_bytes: Option<u64>,
 }
 
 impl<'a> From<&'a Info> for RayInfoJson<'a> {
@@ -319,8 +324,33 @@ impl<'a> From<&'a Info> for RayInfoJson<'a> {
             extreme_rays_total: *extreme_rays_total,
             near_degenerate: *near_degenerate,
             seconds: *seconds,
+            peak_rss_bytes: peak_rss_bytes(),
         }
     }
+}
+
+/// `", peak memory X MiB"` for the summaries' info lines (empty where it is not known).
+pub fn peak_memory_text() -> String {
+    peak_rss_bytes()
+        .map(|b| format!(", peak memory {:.1} MiB", b as f64 / 1048576.0))
+        .unwrap_or_default()
+}
+
+/// The peak resident memory of this process so far (`VmHWM` of `/proc/self/status`, Linux), in
+/// bytes; `None` where that file does not exist. The library's own measure of the memory that
+/// grows with a run is `peak_bytes` (the double description's ray store, which `--max-memory`
+/// bounds); this one is the whole process, parsers and solver included.
+pub fn peak_rss_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line
+        .trim_start_matches("VmHWM:")
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()?;
+    Some(kb * 1024)
 }
 
 impl<'a> Report<'a> {
@@ -706,8 +736,8 @@ mod tests {
         assert_eq!(info["method"], "pyramid");
         assert_eq!(info["pyramid_faces"], 12);
         assert_eq!(info["socps"], 7);
-        // method, pyramid_faces and the 14 fields of PatternInfo.
-        assert_eq!(info.len(), 16, "{info:?}");
+        // method, pyramid_faces, the 14 fields of PatternInfo and peak_rss_bytes.
+        assert_eq!(info.len(), 17, "{info:?}");
     }
 
     #[test]

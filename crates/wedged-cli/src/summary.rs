@@ -194,7 +194,7 @@ fn render_rays(out: &mut String, problem: &Problem, result: &Enumeration) {
         }
     }
     out.push('\n');
-    let _ = writeln!(out, "info: {}", info_line(&result.info));
+    wrapped(out, 0, 2, &format!("info: {}", info_line(&result.info)));
 }
 
 /// The line of a complete run that found nothing but the trivial solution.
@@ -339,8 +339,9 @@ fn pattern_info(out: &mut String, problem: &Problem, choice: &Choice, result: &P
     let info = &result.info;
     let _ = writeln!(
         out,
-        "info: {}; {} realised, {} of them maximal",
+        "info: {}{}; {} realised, {} of them maximal",
         seconds_text(info.seconds),
+        crate::output::peak_memory_text(),
         plural(info.realised as usize, "pattern", "patterns"),
         result.patterns.len()
     );
@@ -546,7 +547,11 @@ pub(crate) fn seconds_text(s: f64) -> String {
 
 /// Diagnostics worth reading, on one line; the zero counters of other methods are left out.
 fn info_line(info: &Info) -> String {
-    let mut parts = vec![seconds_text(info.seconds)];
+    let mut parts = vec![format!(
+        "{}{}",
+        seconds_text(info.seconds),
+        crate::output::peak_memory_text()
+    )];
     if !info.rays_after_node.is_empty() {
         let shown: Vec<String> = info
             .rays_after_node

@@ -681,32 +681,39 @@ struct Svg {
     out: String,
 }
 
+/// The start of an SVG page `width x height` (pixels): the root element, its `<title>`, a white
+/// background, and the title in bold at `(x, baseline)`, shrunk to fit the width between margins
+/// `x` on either side when it is long (`em`: the width of a bold character in ems, for this
+/// page's font). The caller closes the root element.
+pub fn preamble(width: f64, height: f64, title: &str, x: f64, baseline: f64, em: f64) -> String {
+    let mut out = String::with_capacity(64 * 1024);
+    let _ = write!(
+        out,
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" \
+         viewBox=\"0 0 {w} {h}\" font-family=\"{FONT}\" font-size=\"12\">\n\
+         <title>{t}</title>\n\
+         <rect class=\"background\" width=\"{w}\" height=\"{h}\" fill=\"#ffffff\"/>\n",
+        w = width,
+        h = height,
+        t = escape(title),
+    );
+    let chars = title.chars().count().max(1) as f64;
+    let font = (16.0f64).min((width - 2.0 * x) / (em * chars)).max(8.0);
+    let _ = writeln!(
+        out,
+        "<text class=\"title\" x=\"{}\" y=\"{}\" font-size=\"{}\" font-weight=\"bold\" \
+         fill=\"{INK}\">{}</text>",
+        px(x),
+        px(baseline),
+        px(font),
+        escape(title)
+    );
+    out
+}
+
 impl Svg {
     fn new(title: &str) -> Svg {
-        let mut out = String::with_capacity(64 * 1024);
-        let _ = write!(
-            out,
-            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" \
-             viewBox=\"0 0 {w} {h}\" font-family=\"{FONT}\" font-size=\"12\">\n\
-             <title>{t}</title>\n\
-             <rect class=\"background\" width=\"{w}\" height=\"{h}\" fill=\"#ffffff\"/>\n",
-            w = WIDTH,
-            h = HEIGHT,
-            t = escape(title),
-        );
-        // The title line, shrunk to fit the page.
-        let chars = title.chars().count().max(1) as f64;
-        let font = (16.0f64)
-            .min((WIDTH - 2.0 * MARGIN) / (0.56 * chars))
-            .max(8.0);
-        let _ = writeln!(
-            out,
-            "<text class=\"title\" x=\"{}\" y=\"30\" font-size=\"{}\" font-weight=\"bold\" \
-             fill=\"{INK}\">{}</text>",
-            px(MARGIN),
-            px(font),
-            escape(title)
-        );
+        let out = preamble(WIDTH, HEIGHT, title, MARGIN, 30.0, 0.56);
         Svg { out }
     }
 

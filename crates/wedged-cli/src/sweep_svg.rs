@@ -11,7 +11,7 @@ use std::fmt::Write;
 use wedged::{Critical, CriticalStatus};
 
 use crate::critical_out::bracket_text;
-use crate::svg::{escape, px, sig4, FONT, INK};
+use crate::svg::{escape, px, sig4, INK};
 
 const WIDTH: f64 = 760.0;
 const HEIGHT: f64 = 460.0;
@@ -63,28 +63,7 @@ pub fn sweep_svg(source: &str, result: &Critical) -> String {
 }
 
 fn header(title: &str) -> String {
-    let mut out = String::with_capacity(16 * 1024);
-    let _ = write!(
-        out,
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" \
-         viewBox=\"0 0 {w} {h}\" font-family=\"{FONT}\" font-size=\"12\">\n\
-         <title>{t}</title>\n\
-         <rect class=\"background\" width=\"{w}\" height=\"{h}\" fill=\"#ffffff\"/>\n",
-        w = WIDTH,
-        h = HEIGHT,
-        t = escape(title),
-    );
-    let chars = title.chars().count().max(1) as f64;
-    // Bold text is about 0.62 em a character.
-    let font = 16.0f64.min((WIDTH - 48.0) / (0.62 * chars)).max(8.0);
-    let _ = writeln!(
-        out,
-        "<text class=\"title\" x=\"24\" y=\"32\" font-size=\"{}\" font-weight=\"bold\" \
-         fill=\"{INK}\">{}</text>",
-        px(font),
-        escape(title)
-    );
-    out
+    crate::svg::preamble(WIDTH, HEIGHT, title, 24.0, 32.0, 0.62)
 }
 
 fn message_page(title: &str, lines: &[&str]) -> String {
@@ -327,6 +306,7 @@ mod tests {
                 })
                 .collect(),
             undecided: Vec::new(),
+            certificate: None,
             info: CriticalInfo {
                 mu_enumerated: Some(3.2),
                 tol_achieved: 1e-7,

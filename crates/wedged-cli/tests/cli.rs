@@ -149,6 +149,7 @@ fn check_report(report: &Value, k: &DMatrix<f64>) {
             "pairs_tested",
             "adjacency_tests",
             "seconds",
+            "peak_rss_bytes",
         ]
     } else {
         &[
@@ -168,6 +169,7 @@ fn check_report(report: &Value, k: &DMatrix<f64>) {
             "near_degenerate",
             "realised",
             "seconds",
+            "peak_rss_bytes",
         ]
     };
     for key in info_keys {
@@ -1001,6 +1003,8 @@ fn check_critical_keys(report: &Value) {
         "thresholds",
         "undecided",
         "info",
+        "certified",
+        "certificate",
         "version",
     ];
     // `model` is there for a meshed body only.
@@ -1028,10 +1032,11 @@ fn check_critical_keys(report: &Value) {
         "retries",
         "uncertain",
         "seconds",
+        "peak_rss_bytes",
     ] {
         assert!(info.contains_key(key), "missing info.{key}: {info:?}");
     }
-    assert_eq!(info.len(), 15, "{info:?}");
+    assert_eq!(info.len(), 16, "{info:?}");
 }
 
 /// One node with `K_nn = 2, K_nt = 1, K_tt = 1`: `mu* = K_tt / |K_nt| = 1`.

@@ -1,0 +1,115 @@
+//! `wedged critical --certify`: the answer re-checked in exact rational arithmetic.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn wedged(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wedged"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn example(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn certified_report(args: &[&str]) -> Value {
+    let out = wedged(args);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    assert_eq!(report["certified"], true, "{report}");
+    let cert = &report["certificate"];
+    assert_eq!(cert["refutations_failed"], 0);
+    assert!(cert["refutations_checked"].as_u64().unwrap() > 0);
+    assert!(cert["failures"].as_array().unwrap().is_empty());
+    let (upper, exact) = (
+        report["upper"].as_f64().unwrap(),
+        cert["upper"].as_f64().unwrap(),
+    );
+    assert!((exact - upper).abs() <= 1e-12 * upper, "{exact} vs {upper}");
+    assert!(report["lower"].as_f64().unwrap() <= exact);
+    report
+}
+
+#[test]
+fn the_2d_and_3d_plugs_are_certified() {
+    for (file, dim) in [("plug2d.toml", 2), ("plug3d.toml", 3)] {
+        let report = certified_report(&["critical", &example(file), "--certify", "--json", "-"]);
+        assert_eq!(report["dim"], dim);
+        assert_eq!(report["status"], "wedged");
+    }
+}
+
+/// One node with `K_nn = 2, K_nt = 1, K_tt = 1`: `mu* = K_tt / |K_nt| = 1`, by both methods.
+/// (Faces on the 2D plug leaves contact sets undecided, so the small case is used for it.)
+#[test]
+fn faces_is_certified_and_the_summary_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let one = dir.path().join("one.toml");
+    std::fs::write(
+        &one,
+        "dim = 2\nmu = 1.1\n[stiffness]\nrows = [[2.0, 1.0], [1.0, 1.0]]\n",
+    )
+    .unwrap();
+    let one = one.display().to_string();
+    for method in ["faces", "bnb"] {
+        let report = certified_report(&[
+            "critical",
+            &one,
+            "--method",
+            method,
+            "--certify",
+            "--json",
+            "-",
+        ]);
+        let exact = report["certificate"]["upper"].as_f64().unwrap();
+        assert!((exact - 1.0).abs() <= 1e-12, "{method}: {exact}");
+        assert!(report["lower"].as_f64().unwrap() <= 1.0);
+    }
+    let file = example("plug2d.toml");
+    let out = wedged(&["critical", &file, "--certify"]);
+    assert_eq!(out.status.code(), Some(0));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("certified in exact rational arithmetic"),
+        "{text}"
+    );
+}
+
+#[test]
+fn without_certify_the_fields_are_null() {
+    let out = wedged(&["critical", &example("plug2d.toml"), "--json", "-"]);
+    let report: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(report["certified"].is_null());
+    assert!(report["certificate"].is_null());
+}
+
+#[test]
+fn certify_with_enumerate_is_refused() {
+    let out = wedged(&[
+        "critical",
+        &example("plug2d.toml"),
+        "--method",
+        "enumerate",
+        "--certify",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--certify needs --method bnb or faces"),
+        "{err}"
+    );
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+}
