@@ -369,7 +369,10 @@ fn an_edge_ray_exactly_on_its_gap_constraint() {
     // Today: trial 4 (see below) is refused by pruned-dd and full-dd and missed by faces. A
     // rise is a regression (pruned-dd missed trial 14's ray before dd.rs judged projected
     // entries against their own terms).
-    assert!(missed <= 1 && refused <= 2, "{missed} missed, {refused} refused");
+    assert!(
+        missed <= 1 && refused <= 2,
+        "{missed} missed, {refused} refused"
+    );
 }
 
 /// The strict form of the edge family: floating `pruned-dd`, certified, equals the exact answer.

@@ -12,7 +12,12 @@ fn node_scaled(p: &Problem, s: &[f64]) -> Problem {
     let k = p.stiffness();
     let n = k.nrows();
     let f = |a: usize| s[(a / d) % s.len()];
-    Problem::new(d, DMatrix::from_fn(n, n, |a, b| f(a) * k[(a, b)] * f(b)), p.mu()).unwrap()
+    Problem::new(
+        d,
+        DMatrix::from_fn(n, n, |a, b| f(a) * k[(a, b)] * f(b)),
+        p.mu(),
+    )
+    .unwrap()
 }
 
 #[test]

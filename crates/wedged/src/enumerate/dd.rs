@@ -705,7 +705,9 @@ fn algebraic_adjacent(
             let (sum, size) = v
                 .iter()
                 .zip(&row[d * k..d * k + d])
-                .fold((0.0f64, 0.0f64), |(s, z), (a, b)| (s + a * b, z + (a * b).abs()));
+                .fold((0.0f64, 0.0f64), |(s, z), (a, b)| {
+                    (s + a * b, z + (a * b).abs())
+                });
             if sum.abs() <= tol * size {
                 0.0
             } else {
