@@ -878,10 +878,9 @@ fn report(
         }
         (_, false) => None,
     };
-    let json_text = json.as_ref().map(|_| {
-        let certified = certificate.as_ref().map(|c| c.certified);
-        output::to_json(problem, choice, &answer, model, certified)
-    });
+    let json_text = json
+        .as_ref()
+        .map(|_| output::to_json(problem, choice, &answer, model, certificate.as_ref()));
     let incomplete = answer.stopped();
     let written = match model {
         Some(model) if (vtk.is_some() || svg.is_some()) && incomplete.is_none() => {

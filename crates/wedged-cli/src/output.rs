@@ -40,7 +40,8 @@
 //! `certified` is the result of `--certify` for a ray method: `true` when the rays and cones
 //! passed every check of `wedged::certify` in exact rational arithmetic, `false` when one failed
 //! (the exit code is then 1); `null` when `--certify` was not given, and for a pattern method,
-//! whose sign patterns are not certified yet.
+//! whose sign patterns are not certified yet. `certified_complete` is `true` when, in addition,
+//! the answer equals the exact enumeration (checked up to 8 nodes), `null` when not checked.
 //!
 //! Vectors are in the local node frames, normal first (`n, t` in 2D, `n, t1, t2` in 3D), with
 //! rays and witnesses normalised to `sum r_n = 1`. The top level and the lists are laid out one
@@ -74,6 +75,10 @@ pub struct Report<'a> {
     /// `--certify`: true when every exact check passed, false when one failed; `null` without
     /// `--certify` or for a pattern method (sign patterns are not certified yet).
     pub certified: Option<bool>,
+    /// `--certify` on a ray method of at most `wedged::certify::COMPLETENESS_MAX_NODES` nodes:
+    /// true when the answer equals the exact enumeration (nothing is missing); `null` when not
+    /// checked.
+    pub certified_complete: Option<bool>,
     pub rays: Vec<RayJson<'a>>,
     pub cones: Vec<ConeJson<'a>>,
     /// The convex pieces, whatever the method (see the module documentation).
@@ -406,6 +411,7 @@ impl<'a> Report<'a> {
                 _ => None,
             },
             certified: None,
+            certified_complete: None,
             rays,
             cones,
             patterns: answer.pieces().iter().map(PatternJson::from).collect(),
@@ -417,16 +423,18 @@ impl<'a> Report<'a> {
     }
 }
 
-/// The JSON text of a result, ending with a newline; `certified` is the result of `--certify`.
+/// The JSON text of a result, ending with a newline; `certificate` is the result of
+/// `--certify`.
 pub fn to_json(
     problem: &Problem,
     choice: &Choice,
     answer: &Answer,
     model: Option<&Model>,
-    certified: Option<bool>,
+    certificate: Option<&wedged::certify::Certificate>,
 ) -> String {
     let mut report = Report::new(problem, choice, answer, model);
-    report.certified = certified;
+    report.certified = certificate.map(|c| c.certified);
+    report.certified_complete = certificate.and_then(|c| c.complete);
     layout(&report)
 }
 

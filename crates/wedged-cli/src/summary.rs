@@ -139,11 +139,23 @@ pub fn render(
 pub fn certification(c: &Certificate) -> String {
     let mut out = String::new();
     if c.certified {
-        let _ = writeln!(
-            out,
-            "certified in exact rational arithmetic: {}, {}",
-            plural(c.rays_checked, "ray", "rays"),
-            plural(c.cones_checked, "cone", "cones")
+        let complete = match c.complete {
+            Some(true) => "; complete: equal to the exact enumeration".to_string(),
+            _ => format!(
+                "; completeness not checked (more than {} nodes, or an incomplete run; --exact \
+                 gives a complete answer)",
+                wedged::certify::COMPLETENESS_MAX_NODES
+            ),
+        };
+        wrapped(
+            &mut out,
+            0,
+            2,
+            &format!(
+                "certified in exact rational arithmetic: {}, {}{complete}",
+                plural(c.rays_checked, "ray", "rays"),
+                plural(c.cones_checked, "cone", "cones")
+            ),
         );
     } else {
         for failure in &c.failures {

@@ -127,6 +127,7 @@ fn check_report(report: &Value, k: &DMatrix<f64>) {
         "complete",
         "stopped",
         "certified",
+        "certified_complete",
         "rays",
         "cones",
         "patterns",
@@ -137,7 +138,7 @@ fn check_report(report: &Value, k: &DMatrix<f64>) {
         assert!(keys.contains(&key), "missing {key} in {keys:?}");
     }
     // `model` is there for a meshed body only.
-    let expected = 14 + usize::from(keys.contains(&"model"));
+    let expected = 15 + usize::from(keys.contains(&"model"));
     assert_eq!(keys.len(), expected, "{keys:?}");
     let info = report["info"].as_object().unwrap();
     let ray_method =
@@ -1334,7 +1335,9 @@ fn certify_flag_certifies_ray_methods() {
         ]);
         let report = json_stdout(&out);
         assert_eq!(report["certified"], Value::Bool(true), "{method}");
-        // The summary says so in one line.
+        // Three nodes: completeness is checked against the exact enumeration too.
+        assert_eq!(report["certified_complete"], Value::Bool(true), "{method}");
+        // The summary says so.
         let out = wedged(&[
             "enumerate",
             &fixture("coupled_array.toml"),
@@ -1344,7 +1347,10 @@ fn certify_flag_certifies_ray_methods() {
         ]);
         assert_success(&out);
         assert!(
-            stdout(&out).contains("certified in exact rational arithmetic: 7 rays, 4 cones"),
+            stdout(&out).contains(
+                "certified in exact rational arithmetic: 7 rays, 4 cones; complete: equal to the \
+                 exact enumeration"
+            ),
             "{}",
             stdout(&out)
         );
@@ -1352,6 +1358,7 @@ fn certify_flag_certifies_ray_methods() {
     // Without the flag, the key is null and the summary has no such line.
     let out = wedged(&["enumerate", &fixture("coupled_array.toml"), "--json", "-"]);
     assert_eq!(json_stdout(&out)["certified"], Value::Null);
+    assert_eq!(json_stdout(&out)["certified_complete"], Value::Null);
     let out = wedged(&["enumerate", &fixture("coupled_array.toml")]);
     assert_success(&out);
     assert!(!stdout(&out).contains("certified in exact"));
