@@ -362,7 +362,10 @@ fn an_edge_ray_exactly_on_its_gap_constraint() {
                 assert!(c.certified, "{what}: {method}: {:?}", c.failures);
                 assert_eq!(c.complete, Some(true), "{what}: {method}");
             } else {
-                assert!(!c.certified, "{what}: {method} lost {lost} rays, yet certified");
+                assert!(
+                    !c.certified,
+                    "{what}: {method} lost {lost} rays, yet certified"
+                );
                 assert_eq!(c.complete, Some(false), "{what}: {method}");
                 assert!(
                     c.failures.iter().all(|f| f.starts_with("completeness:")),
