@@ -379,24 +379,21 @@ fn an_edge_ray_exactly_on_its_gap_constraint() {
         "edge family: the floating methods missed {missed} exact rays and refused {refused} \
          answers (verification errors)"
     );
-    // Today: trial 4 (see below) is refused by pruned-dd and full-dd and missed by faces. A
-    // rise is a regression (pruned-dd missed trial 14's ray before dd.rs judged projected
-    // entries against their own terms).
+    // None since the round-off floors of dd.rs and faces.rs (before: trial 14 missed by
+    // pruned-dd, trial 4 refused by pruned-dd and full-dd and missed by faces).
     assert!(
-        missed <= 1 && refused <= 2,
+        missed == 0 && refused == 0,
         "{missed} missed, {refused} refused"
     );
 }
 
 /// The strict form of the edge family: floating `pruned-dd`, certified, equals the exact answer.
-/// Ignored: it fails today on `edge trial 4` (`m = 4`, `mu = 1/2`), where `pruned-dd` and
-/// `full-dd` stop with a verification error (a ray whose friction ratio is exactly `mu` is
-/// claimed stick) and `faces` misses `[slip+, separated, separated, grazing]`. (`edge trial 14`,
-/// `m = 2`, `mu = 1`, where `pruned-dd` printed "no wedged configuration" although
-/// `[slip+, slip+]` exists, is fixed: the projected gap row of its adjacency test was pure
-/// round-off that `linalg::rank` scaled up to unit size.)
+/// (It failed on `edge trial 14`, `m = 2`, `mu = 1`, where `pruned-dd` printed "no wedged
+/// configuration" although `[slip+, slip+]` exists: a projected gap row of pure round-off
+/// counted in the adjacency rank; and on `edge trial 4`, `m = 4`, `mu = 1/2`, where an entry of
+/// `K^-1` that is zero exactly came out as round-off and decided a sign, so `pruned-dd` and
+/// `full-dd` stopped with a verification error and `faces` missed the only ray.)
 #[test]
-#[ignore = "floating pruned-dd misses or refuses exact edge rays (see the doc comment)"]
 fn floating_pruned_dd_finds_every_edge_ray() {
     for (what, p) in edge_family(31, 30) {
         check(&p, &what, false);

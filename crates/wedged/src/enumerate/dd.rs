@@ -589,6 +589,12 @@ pub(crate) fn run(
 /// number of close calls.
 type Signs = (Vec<f64>, Vec<usize>, Vec<usize>, Vec<usize>, u64);
 
+/// The round-off floor of a computed compliance row, relative to its largest entry: a value
+/// `sum_k G_jk r_k` below `NOISE * max_k |G_jk| * sum_k |r_k|` is zero. (`K^-1` from a Cholesky
+/// factor carries errors of a few hundred ulps of its largest entries on these problems; this
+/// floor is far below the method's resolution `zero_tol`.)
+pub(crate) const NOISE: f64 = 1024.0 * f64::EPSILON;
+
 /// A sign decision is a close call when `|x|` is within this factor of its zero threshold, on
 /// either side ([`Info::near_degenerate`](crate::Info::near_degenerate)).
 const NEAR: f64 = 100.0;
@@ -599,18 +605,25 @@ const NEAR: f64 = 100.0;
 fn classify(rays: &Rays, row: &[f64], tol: f64) -> Signs {
     let (mut plus, mut minus, mut zero) = (Vec::new(), Vec::new(), Vec::new());
     let mut near = 0u64;
+    let row_max = row.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let value: Vec<f64> = (0..rays.len())
         .map(|a| {
-            let (mut v, mut s) = (0.0, 0.0);
+            let (mut v, mut s, mut size) = (0.0, 0.0, 0.0);
             for (g, r) in row.iter().zip(rays.r(a)) {
                 let t = g * r;
                 v += t;
                 s += t.abs();
+                size += r.abs();
             }
+            // Below the noise floor of the computed compliance row, whatever its own terms: an
+            // entry of K^-1 that is zero in exact arithmetic comes out as round-off, and a value
+            // made only of such entries must not count as a sign (found by the degenerate
+            // family: integer K, edge trial 4).
+            let floor = NOISE * row_max * size;
             if v.abs() > tol * s / NEAR && v.abs() <= tol * s * NEAR {
                 near += 1;
             }
-            if v.abs() <= tol * s {
+            if v.abs() <= tol * s || v.abs() <= floor {
                 zero.push(a);
             } else if v > 0.0 {
                 plus.push(a);

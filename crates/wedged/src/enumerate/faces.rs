@@ -66,6 +66,10 @@ struct Face<'a> {
     /// Inequality rows `>= 0`, row-major: two friction rows per member, then `G_{n_k, J}` for
     /// every `k` not in `J`.
     ineq: Vec<f64>,
+    /// Per row of `eq`, then of `ineq`: the largest entry of its whole compliance row
+    /// `G_{n_k, :}` (0 for a friction row), for the round-off floor [`super::dd::NOISE`].
+    eq_row_max: Vec<f64>,
+    ineq_row_max: Vec<f64>,
 }
 
 impl<'a> Face<'a> {
@@ -81,10 +85,13 @@ impl<'a> Face<'a> {
                 out.push(g[(2 * k, 2 * j + 1)]);
             }
         };
+        let row_max = |k: usize| (0..2 * m).fold(0.0f64, |a, j| a.max(g[(2 * k, j)].abs()));
         let mut eq = Vec::with_capacity(members.len() * nv);
+        let eq_row_max: Vec<f64> = members.iter().map(|&k| row_max(k)).collect();
         for &k in &members {
             gap_row(k, &mut eq);
         }
+        let mut ineq_row_max = vec![0.0; 2 * members.len()];
         let mut ineq = Vec::with_capacity((m + members.len()) * nv);
         for a in 0..members.len() {
             for sign in [-1.0, 1.0] {
@@ -96,12 +103,15 @@ impl<'a> Face<'a> {
         }
         for k in (0..m).filter(|&k| mask & (1 << k) == 0) {
             gap_row(k, &mut ineq);
+            ineq_row_max.push(row_max(k));
         }
         Face {
             problem,
             members,
             eq,
             ineq,
+            eq_row_max,
+            ineq_row_max,
         }
     }
 
@@ -184,16 +194,24 @@ impl<'a> Face<'a> {
     }
 
     /// Every equality and inequality of the face holds at `v`, up to the relative tolerance.
+    /// (A gap row's value below the round-off floor of its compliance row counts as zero: an
+    /// entry of `K^-1` that is zero in exact arithmetic comes out as round-off.)
     fn feasible(&self, v: &[f64], tol: f64) -> bool {
         let nv = self.nv();
-        let eq_ok = self.eq.chunks(nv).all(|row| {
+        let size: f64 = v.iter().map(|x| x.abs()).sum();
+        let floor = |row_max: f64| super::dd::NOISE * row_max * size;
+        let eq_ok = self.eq.chunks(nv).zip(&self.eq_row_max).all(|(row, &top)| {
             let (x, scale) = dot(row, v);
-            x.abs() <= tol * scale
+            x.abs() <= (tol * scale).max(floor(top))
         });
-        let ineq_ok = self.ineq.chunks(nv).all(|row| {
-            let (x, scale) = dot(row, v);
-            x >= -tol * scale
-        });
+        let ineq_ok = self
+            .ineq
+            .chunks(nv)
+            .zip(&self.ineq_row_max)
+            .all(|(row, &top)| {
+                let (x, scale) = dot(row, v);
+                x >= -(tol * scale).max(floor(top))
+            });
         eq_ok && ineq_ok
     }
 }
@@ -217,7 +235,9 @@ fn classify(problem: &Problem, r: &[f64], tol: f64) -> Option<Vec<NodeStatus>> {
             let (un, u_scale) = (0..r.len()).fold((0.0, 0.0), |(s, t), j| {
                 (s + g[(2 * i, j)] * r[j], t + (g[(2 * i, j)] * r[j]).abs())
             });
-            let gap_zero = un.abs() <= tol * u_scale;
+            let row_max = (0..r.len()).fold(0.0f64, |a, j| a.max(g[(2 * i, j)].abs()));
+            let size: f64 = r.iter().map(|x| x.abs()).sum();
+            let gap_zero = un.abs() <= (tol * u_scale).max(super::dd::NOISE * row_max * size);
             let r_zero = rn.abs() <= tol * rmax && rt.abs() <= tol * rmax;
             if r_zero {
                 return if gap_zero {
