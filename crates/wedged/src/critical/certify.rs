@@ -747,6 +747,55 @@ mod tests {
         assert!(checked >= 25, "{checked}");
     }
 
+    /// A witness of `critical` passes exactly at its own `upper`; claimed at a `upper` a
+    /// millionth lower, it is caught; with its pressures spread to every node it no longer
+    /// solves WP and is caught too.
+    #[test]
+    fn witnesses_pass_and_corrupted_ones_fail() {
+        use crate::critical::{critical, CriticalSettings};
+        let mut checked = 0;
+        for case in 0..12u64 {
+            let dim = 2 + (case % 2) as usize;
+            let p = random_spd_problem_dim(dim, 2 + (case % 3) as usize, 1.0, 300 + case);
+            let c = critical(&p, &CriticalSettings::default()).unwrap();
+            let (Some(w), Some(upper)) = (&c.witness, c.upper) else {
+                continue;
+            };
+            let closed: Vec<bool> = w
+                .pattern
+                .iter()
+                .map(|&q| q != crate::enumerate::ContactPattern::Separated)
+                .collect();
+            let exact = check_witness(&p, &w.u, &w.r, &closed, upper);
+            assert!(
+                exact
+                    .as_ref()
+                    .is_ok_and(|&x| (x - upper).abs() <= 1e-12 * upper),
+                "case {case}: {exact:?}"
+            );
+            let lowered = check_witness(&p, &w.u, &w.r, &closed, upper * (1.0 - 1e-6));
+            assert!(lowered.is_err(), "case {case}: a lowered upper passed");
+            // Every node pressed and closed: the leaf of all nodes, whose only point with the
+            // witness's free coordinates is not this one (or not a solution at all).
+            let m = p.nodes();
+            let mut r = w.r.clone();
+            for i in 0..m {
+                r[dim * i] = r[dim * i].max(1.0);
+            }
+            let spread = check_witness(&p, &w.u, &r, &vec![true; m], upper);
+            if closed.iter().all(|&x| x) && w.r.iter().step_by(dim).all(|&x| x > 0.0) {
+                // The witness already pressed every node: nothing was corrupted.
+                continue;
+            }
+            assert!(
+                spread.is_err(),
+                "case {case}: a spread witness passed: {spread:?}"
+            );
+            checked += 1;
+        }
+        assert!(checked >= 5, "{checked}");
+    }
+
     #[test]
     fn dyadic_is_exact() {
         for x in [1.0, -0.75, 1e-300, 5e-324, 0.1 + 0.2, -1e300] {
