@@ -517,7 +517,7 @@ fn recompute(
 }
 
 /// The nearest `f64` (or infinity, or NaN if it has none).
-fn to_f64(x: &BigRational) -> f64 {
+pub(crate) fn to_f64(x: &BigRational) -> f64 {
     x.to_f64().unwrap_or(f64::NAN)
 }
 

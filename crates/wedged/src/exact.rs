@@ -46,10 +46,12 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use num_bigint::BigInt;
 use num_integer::Integer;
 use num_rational::BigRational;
-use num_traits::{Signed, ToPrimitive, Zero};
+use num_traits::{Signed, Zero};
 use rayon::prelude::*;
 
-use crate::certify::{integer_row, null_space_int, ray_of_status_quiet, ExactProblem, ExactRay};
+use crate::certify::{
+    integer_row, null_space_int, ray_of_status_quiet, to_f64, ExactProblem, ExactRay,
+};
 use crate::enumerate::{
     cones_of_statuses, Cone, Control, EnumerateError, Info, Limits, NodeStatus, Progress, Ray,
 };
@@ -94,11 +96,6 @@ impl ExactEnumeration {
     pub fn rounded_rays(&self) -> Vec<Ray> {
         self.rays.iter().map(ExactSolution::rounded).collect()
     }
-}
-
-/// The nearest `f64` (or infinity, or NaN if it has none).
-fn to_f64(x: &BigRational) -> f64 {
-    x.to_f64().unwrap_or(f64::NAN)
 }
 
 fn check_dim(problem: &Problem) -> Result<(), EnumerateError> {

@@ -749,22 +749,6 @@ fn independent_bodies_are_decided() {
 /// The units of `K` and the order of the nodes do not change `mu*`: the branch and bound on
 /// `K`, `1e-8 K`, `1e8 K` and `K` with its nodes reversed gives the same `upper` (within the
 /// certified brackets) in 2D and 3D.
-/// `S K S` with `S` scaling node `i`'s block by `s_i` (cycled): the same wedged problem in other
-/// units per node (`u_i / s_i`, `r_i s_i`: signs, complementarity and friction cones unchanged),
-/// so the same `mu*`; a mesh with stiff and soft parts looks like this.
-fn node_scaled(p: &Problem, s: &[f64]) -> Problem {
-    let d = p.dim();
-    let k = p.stiffness();
-    let n = k.nrows();
-    let f = |a: usize| s[(a / d) % s.len()];
-    Problem::new(
-        d,
-        DMatrix::from_fn(n, n, |a, b| f(a) * k[(a, b)] * f(b)),
-        p.mu(),
-    )
-    .unwrap()
-}
-
 #[test]
 fn scale_and_node_order_do_not_change_mu_star() {
     let mut compared = 0;
@@ -784,7 +768,7 @@ fn scale_and_node_order_do_not_change_mu_star() {
             ("reversed", base.permuted(&reversed)),
             (
                 "nodes scaled 1e-3..1e3",
-                node_scaled(&base, &[1e-3, 1e3, 1.0, 31.6, 0.0316, 1e2, 1e-2]),
+                wedged::examples::node_scaled(&base, &[1e-3, 1e3, 1.0, 31.6, 0.0316, 1e2, 1e-2]),
             ),
         ];
         for (what, problem) in variants {

@@ -326,15 +326,7 @@ fn per_node_units_do_not_change_the_patterns() {
         let dim = 2 + case % 2;
         let m = 2 + case % 4;
         let base = random_problem(&mut rng, dim, m);
-        let k = base.stiffness();
-        let n = k.nrows();
-        let f = |a: usize| scales[(a / dim) % scales.len()];
-        let scaled = Problem::new(
-            dim,
-            DMatrix::from_fn(n, n, |a, b| f(a) * k[(a, b)] * f(b)),
-            base.mu(),
-        )
-        .unwrap();
+        let scaled = wedged::examples::node_scaled(&base, &scales);
         let (a, b) = (
             run(&base, PatternMethod::Bnb),
             run(&scaled, PatternMethod::Bnb),

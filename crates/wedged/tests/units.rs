@@ -3,22 +3,8 @@
 //! per node). A mesh whose stiffness varies by orders of magnitude looks like this. The 2D rays
 //! must keep their statuses and the cones their rays.
 
-use nalgebra::DMatrix;
-use wedged::examples::random_spd_problem_dim;
-use wedged::{enumerate, Method, Problem, Settings};
-
-fn node_scaled(p: &Problem, s: &[f64]) -> Problem {
-    let d = p.dim();
-    let k = p.stiffness();
-    let n = k.nrows();
-    let f = |a: usize| s[(a / d) % s.len()];
-    Problem::new(
-        d,
-        DMatrix::from_fn(n, n, |a, b| f(a) * k[(a, b)] * f(b)),
-        p.mu(),
-    )
-    .unwrap()
-}
+use wedged::examples::{node_scaled, random_spd_problem_dim};
+use wedged::{enumerate, Method, Settings};
 
 #[test]
 fn per_node_units_do_not_change_the_2d_rays() {

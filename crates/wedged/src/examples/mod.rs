@@ -219,6 +219,23 @@ pub fn block_spd_problem(m: usize, block: usize, mu: f64, seed: u64) -> Problem 
     Problem::new(2, k, mu).expect("a block diagonal of SPD blocks is SPD")
 }
 
+/// `p` in other units per node: `S K S`, node `i`'s block scaled by `s[i % s.len()]` (`u_i / s_i`,
+/// `r_i s_i`). The same wedged problem (signs, complementarity and friction cones are per node),
+/// so every answer must be the same; a mesh whose stiffness varies by orders of magnitude looks
+/// like this. Panics if the result is not a valid problem (a scale of zero or not finite).
+pub fn node_scaled(p: &Problem, s: &[f64]) -> Problem {
+    let d = p.dim();
+    let k = p.stiffness();
+    let n = k.nrows();
+    let f = |a: usize| s[(a / d) % s.len()];
+    Problem::new(
+        d,
+        DMatrix::from_fn(n, n, |a, b| f(a) * k[(a, b)] * f(b)),
+        p.mu(),
+    )
+    .expect("positive finite scales keep K definite")
+}
+
 /// A seeded random problem of dimension `dim` (2 or 3) with `K = A A^T + diag(d)`, `A` square
 /// with entries uniform in `[-1, 1)`, `d` uniform in `[0.05, 1)` (the 2D one is
 /// [`random_spd_problem`]'s matrix).
