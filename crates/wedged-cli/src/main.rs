@@ -239,12 +239,15 @@ struct EnumerateArgs {
     /// DIR are removed).
     #[arg(long, value_name = "DIR")]
     svg: Option<PathBuf>,
-    /// Certify the rays and cones of a 2D ray method (pruned-dd, full-dd, faces, exact) in exact
-    /// rational arithmetic: each ray recomputed from its status, checked extreme, feasible with
+    /// Certify the answer in exact rational arithmetic. A 2D ray method (pruned-dd, full-dd,
+    /// faces, exact): each ray recomputed from its status, checked extreme, feasible with
     /// exactly its status and complementary, and compared with the floating-point ray; each
-    /// cone's rays checked cross-complementary. A failure is reported and the exit code is 1.
-    /// (Completeness is not certified: --exact gives a provably complete answer; pattern methods
-    /// are not certified yet.)
+    /// cone's rays checked cross-complementary (completeness checked up to 8 nodes; --exact
+    /// gives a provably complete answer). A pattern method (bnb, pattern-faces; 2D or 3D): each
+    /// pattern's witness recomputed exactly and checked, and every decision of the search
+    /// backed by an infeasibility certificate checked exactly, which proves the patterns are
+    /// all the maximal ones (the pyramid method's candidates are not certified). A failure is
+    /// reported and the exit code is 1.
     #[arg(long)]
     certify: bool,
     /// Run the whole 2D enumeration in exact rational arithmetic (the same as --method exact):
@@ -505,11 +508,13 @@ fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
                 faces: faces.unwrap_or(DEFAULT_PYRAMID_FACES),
             },
             limits,
+            certify: args.certify,
             ..PatternSettings::default()
         }),
         MethodArg::Patterns(method) => Choice::Patterns(PatternSettings {
             method,
             limits,
+            certify: args.certify,
             ..PatternSettings::default()
         }),
     };
@@ -839,7 +844,8 @@ struct Outputs<'a> {
     json: Option<&'a Path>,
     vtk: Option<&'a Path>,
     svg: Option<&'a Path>,
-    /// `--certify`: certify a ray method's answer in exact rational arithmetic.
+    /// `--certify`: certify a ray method's answer in exact rational arithmetic (a pattern
+    /// method certifies during its run, from its settings).
     certify: bool,
 }
 
@@ -870,13 +876,13 @@ fn report(
         export::prepare_dir(dir, "--svg", "svg").map_err(Failure::Input)?;
     }
     let answer = run_library(problem, choice, source)?;
-    let certificate = match (&answer, certify) {
+    let rays_certificate = match (&answer, certify) {
         (Answer::Rays(result), true) => Some(certify_enumeration(problem, result)),
-        (Answer::Patterns(_), true) => {
-            eprintln!("exact certification is not available for sign patterns yet");
-            None
-        }
-        (_, false) => None,
+        _ => None,
+    };
+    let certificate = match &answer {
+        Answer::Rays(_) => rays_certificate.as_ref().map(summary::Certified::Rays),
+        Answer::Patterns(p) => p.certificate.as_ref().map(summary::Certified::Patterns),
     };
     let json_text = json
         .as_ref()
@@ -918,15 +924,16 @@ fn report(
             .map_err(|e| Failure::Input(e.to_string()))?;
     }
     write_stdout(&stdout_text)?;
-    if let Some(c) = certificate.as_ref().filter(|c| !c.certified) {
+    if let Some(c) = certificate.as_ref().filter(|c| !c.certified()) {
+        let failures = c.failures();
         return Err(Failure::Internal(format!(
             "{source}: exact certification failed ({}; first: {}): the floating-point answer \
              cannot be trusted",
-            match c.failures.len() {
+            match failures.len() {
                 1 => "1 check".to_string(),
                 n => format!("{n} checks"),
             },
-            c.failures.first().map_or("", String::as_str)
+            failures.first().map_or("", String::as_str)
         )));
     }
     match incomplete {
@@ -1133,6 +1140,7 @@ mod tests {
                 reason: "stalled".to_string(),
             }],
             info: PatternInfo::default(),
+            certificate: None,
         };
         let text = incomplete_text(
             "p.toml",

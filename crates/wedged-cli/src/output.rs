@@ -37,11 +37,13 @@
 //!   the patterns it found before the stop: each realised and checked, but others may be
 //!   missing and these may not all be maximal.
 //!
-//! `certified` is the result of `--certify` for a ray method: `true` when the rays and cones
-//! passed every check of `wedged::certify` in exact rational arithmetic, `false` when one failed
-//! (the exit code is then 1); `null` when `--certify` was not given, and for a pattern method,
-//! whose sign patterns are not certified yet. `certified_complete` is `true` when, in addition,
-//! the answer equals the exact enumeration (checked up to 8 nodes), `null` when not checked.
+//! `certified` is the result of `--certify`: for a ray method `true` when the rays and cones
+//! passed every check of `wedged::certify` in exact rational arithmetic, for a pattern method
+//! when every witness and every infeasibility certificate behind the search passed
+//! (`wedged::PatternCertificate`); `false` when one failed (the exit code is then 1); `null`
+//! when `--certify` was not given. `certified_complete` is `true` when, in addition, the answer
+//! is proven complete: for rays, equal to the exact enumeration (checked up to 8 nodes, `null`
+//! when not checked); for patterns, the same as `certified`.
 //!
 //! Vectors are in the local node frames, normal first (`n, t` in 2D, `n, t1, t2` in 3D), with
 //! rays and witnesses normalised to `sum r_n = 1`. The top level and the lists are laid out one
@@ -73,7 +75,7 @@ pub struct Report<'a> {
     /// Why an incomplete run stopped; `null` for a complete one.
     pub stopped: Option<String>,
     /// `--certify`: true when every exact check passed, false when one failed; `null` without
-    /// `--certify` or for a pattern method (sign patterns are not certified yet).
+    /// `--certify`.
     pub certified: Option<bool>,
     /// `--certify` on a ray method of at most `wedged::certify::COMPLETENESS_MAX_NODES` nodes:
     /// true when the answer equals the exact enumeration (nothing is missing); `null` when not
@@ -430,11 +432,11 @@ pub fn to_json(
     choice: &Choice,
     answer: &Answer,
     model: Option<&Model>,
-    certificate: Option<&wedged::certify::Certificate>,
+    certificate: Option<&crate::summary::Certified>,
 ) -> String {
     let mut report = Report::new(problem, choice, answer, model);
-    report.certified = certificate.map(|c| c.certified);
-    report.certified_complete = certificate.and_then(|c| c.complete);
+    report.certified = certificate.map(|c| c.certified());
+    report.certified_complete = certificate.and_then(|c| c.complete());
     layout(&report)
 }
 
@@ -710,6 +712,7 @@ mod tests {
                 socps: 7,
                 ..PatternInfo::default()
             },
+            certificate: None,
         });
         let choice = Choice::Patterns(PatternSettings {
             method: PatternMethod::Pyramid { faces: 12 },

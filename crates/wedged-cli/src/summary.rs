@@ -134,9 +134,45 @@ pub fn render(
     out
 }
 
+/// The exact certificate of a run: of its rays, or of its sign patterns.
+#[derive(Debug, Clone, Copy)]
+pub enum Certified<'a> {
+    Rays(&'a Certificate),
+    Patterns(&'a wedged::PatternCertificate),
+}
+
+impl Certified<'_> {
+    pub fn certified(&self) -> bool {
+        match self {
+            Certified::Rays(c) => c.certified,
+            Certified::Patterns(c) => c.certified,
+        }
+    }
+
+    /// Whether the answer is also proven complete (`None`: not checked).
+    pub fn complete(&self) -> Option<bool> {
+        match self {
+            Certified::Rays(c) => c.complete,
+            // The pattern certificate proves completeness or fails.
+            Certified::Patterns(c) => Some(c.certified),
+        }
+    }
+
+    pub fn failures(&self) -> &[String] {
+        match self {
+            Certified::Rays(c) => &c.failures,
+            Certified::Patterns(c) => &c.failures,
+        }
+    }
+}
+
 /// The result of `--certify`: one line when every exact check passed, else a WARNING line per
 /// failed check.
-pub fn certification(c: &Certificate) -> String {
+pub fn certification(c: &Certified) -> String {
+    let c = match c {
+        Certified::Rays(c) => c,
+        Certified::Patterns(c) => return pattern_certification(c),
+    };
     let mut out = String::new();
     if c.certified {
         let complete = match c.complete {
@@ -155,6 +191,33 @@ pub fn certification(c: &Certificate) -> String {
                 "certified in exact rational arithmetic: {}, {}{complete}",
                 plural(c.rays_checked, "ray", "rays"),
                 plural(c.cones_checked, "cone", "cones")
+            ),
+        );
+    } else {
+        for failure in &c.failures {
+            let _ = writeln!(out, "WARNING: exact certification failed: {failure}");
+        }
+    }
+    out
+}
+
+/// The result of `--certify` for a pattern method.
+fn pattern_certification(c: &wedged::PatternCertificate) -> String {
+    let mut out = String::new();
+    if c.certified {
+        wrapped(
+            &mut out,
+            0,
+            2,
+            &format!(
+                "certified in exact rational arithmetic: {} recomputed exactly, {} behind \
+                 every decision of the search; complete: these are all the maximal patterns",
+                plural(c.witnesses_checked, "witness", "witnesses"),
+                plural(
+                    c.refutations_checked,
+                    "infeasibility certificate",
+                    "infeasibility certificates"
+                )
             ),
         );
     } else {
@@ -897,6 +960,7 @@ mod tests {
                 seconds: 1.5,
                 ..PatternInfo::default()
             },
+            certificate: None,
         };
         (problem, result)
     }

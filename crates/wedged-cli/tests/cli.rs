@@ -1364,8 +1364,9 @@ fn certify_flag_certifies_ray_methods() {
     assert!(!stdout(&out).contains("certified in exact"));
 }
 
+/// A pattern method certifies its sign patterns (tests/certify.rs has more).
 #[test]
-fn certify_flag_is_not_available_for_patterns() {
+fn certify_flag_certifies_patterns() {
     let out = wedged(&[
         "enumerate",
         &fixture("coupled_array.toml"),
@@ -1376,13 +1377,9 @@ fn certify_flag_is_not_available_for_patterns() {
         "-",
     ]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(
-        stderr(&out).contains("exact certification is not available for sign patterns yet"),
-        "{}",
-        stderr(&out)
-    );
     let report: Value = serde_json::from_str(&stdout(&out)).unwrap();
-    assert_eq!(report["certified"], Value::Null);
+    assert_eq!(report["certified"], true);
+    assert_eq!(report["certified_complete"], true);
 }
 
 /// The rays (statuses and values) and cones of a `--json -` report.

@@ -3,6 +3,7 @@
 //! ```text
 //! cargo run --release -p wedged --example plug3d_run -- 4 2            # m = 20: bracket mu* in [1, 2], then 1.2 mu*
 //! cargo run --release -p wedged --example plug3d_run -- 4 2 --mu 2.5   # one run at a given mu
+//! cargo run --release -p wedged --example plug3d_run -- 4 2 --mu 1.7895 --certify
 //! ```
 //!
 //! Without `--mu` it brackets the critical friction coefficient by bisection on "branch and
@@ -42,6 +43,7 @@ fn main() {
         method,
         ..PatternSettings::default()
     };
+    let certify = args.iter().any(|a| a == "--certify");
     let solve = |mu: f64| {
         let problem = base.with_mu(mu).expect("mu > 0");
         enumerate_patterns(&problem, &settings).expect("valid settings")
@@ -72,8 +74,28 @@ fn main() {
         }
     };
     let start = Instant::now();
-    let r = solve(mu);
+    let r = if certify {
+        let problem = base.with_mu(mu).expect("mu > 0");
+        let settings = PatternSettings {
+            certify: true,
+            ..settings.clone()
+        };
+        enumerate_patterns(&problem, &settings).expect("valid settings")
+    } else {
+        solve(mu)
+    };
     let seconds = start.elapsed().as_secs_f64();
+    if let Some(c) = &r.certificate {
+        println!(
+            "certified {}: {} witnesses, {} refutations ({} failed), {} doubts; {:?}",
+            c.certified,
+            c.witnesses_checked,
+            c.refutations_checked,
+            c.refutations_failed,
+            c.doubts,
+            c.failures
+        );
+    }
     let i = &r.info;
     let tree = 2f64.powi(m as i32 + 1) - 1.0;
     println!(

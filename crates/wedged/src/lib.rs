@@ -66,8 +66,8 @@ pub use enumerate::{
     Settings, Stop,
 };
 pub use patterns::{
-    enumerate_patterns, enumerate_patterns_with_control, Pattern, PatternInfo, PatternMethod,
-    PatternSettings, Patterns,
+    enumerate_patterns, enumerate_patterns_with_control, Pattern, PatternCertificate, PatternInfo,
+    PatternMethod, PatternSettings, Patterns,
 };
 pub use problem::{Problem, ProblemError};
 

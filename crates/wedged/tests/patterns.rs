@@ -22,9 +22,14 @@ fn random_spd(rng: &mut ChaCha8Rng, n: usize) -> DMatrix<f64> {
     &a * a.transpose() + d
 }
 
+/// Runs a method; `bnb` and `pattern-faces` with `--certify`, whose certificate must pass
+/// (the pyramid's completeness rests on floating-point double description and is not
+/// certified).
 fn run(problem: &Problem, method: PatternMethod) -> Patterns {
+    let certify = !matches!(method, PatternMethod::Pyramid { .. });
     let settings = PatternSettings {
         method,
+        certify,
         ..PatternSettings::default()
     };
     let result = enumerate_patterns(problem, &settings)
@@ -34,6 +39,20 @@ fn run(problem: &Problem, method: PatternMethod) -> Patterns {
         "{method} incomplete: {:?}",
         result.undecided
     );
+    if certify {
+        let c = result.certificate.as_ref().expect("asked for");
+        assert!(
+            c.certified,
+            "{method} not certified: {:?}\nK = {}, mu = {}",
+            c.failures,
+            problem.stiffness(),
+            problem.mu()
+        );
+        assert_eq!(c.witnesses_checked, result.patterns.len());
+        assert!(c.refutations_checked > 0 || result.patterns.is_empty() || problem.nodes() == 1);
+    } else {
+        assert!(result.certificate.is_none());
+    }
     for p in &result.patterns {
         check_witness(problem, p);
     }

@@ -37,7 +37,7 @@ use num_rational::BigRational;
 use num_traits::{One, Signed, ToPrimitive, Zero};
 use rayon::prelude::*;
 
-use crate::patterns::program::{Class, Refutation};
+use crate::patterns::program::{Class, Cut, Refutation};
 use crate::problem::Problem;
 
 /// The outcome of the exact checks of one run.
@@ -63,7 +63,7 @@ pub struct CriticalCertificate {
 const LISTED: usize = 5;
 
 /// `x` as an exact rational (finite by the problem's validation).
-fn rat(x: f64) -> BigRational {
+pub(crate) fn rat(x: f64) -> BigRational {
     BigRational::from_float(x).unwrap_or_else(BigRational::zero)
 }
 
@@ -113,14 +113,14 @@ fn eliminate(a: &mut Vec<Vec<BigInt>>, order: &[usize]) -> Vec<usize> {
 /// `K^-1` applied to the normal unit loads, exactly and rounded: `cols[j][a] / den = (K^-1
 /// e_{n_j})_a` with one positive integer `den` (not kept: only signs are decided), `near[j][a]`
 /// the nearest `f64` and `err[j][a]` a bound on its distance from the exact value.
-struct Compliance {
+pub(crate) struct Compliance {
     cols: Vec<Vec<BigInt>>,
     near: Vec<Vec<f64>>,
     err: Vec<Vec<f64>>,
 }
 
 /// `K` scaled by a power of two to integers (exact).
-fn integer_stiffness(problem: &Problem) -> Vec<Vec<BigInt>> {
+pub(crate) fn integer_stiffness(problem: &Problem) -> Vec<Vec<BigInt>> {
     let k = problem.stiffness();
     let n = k.nrows();
     let parts: Vec<Vec<(BigInt, i32)>> = (0..n)
@@ -147,7 +147,7 @@ fn integer_stiffness(problem: &Problem) -> Vec<Vec<BigInt>> {
 /// and below the pivot: every division is exact, every entry an integer minor), on `K` scaled
 /// to integers. At the end every diagonal entry is `det K` (scaled) and the right block is
 /// `det K * X`. `None` when `K` is singular.
-fn compliance(problem: &Problem) -> Option<Compliance> {
+pub(crate) fn compliance(problem: &Problem) -> Option<Compliance> {
     let (d, m) = (problem.dim(), problem.nodes());
     let n = d * m;
     let mut a: Vec<Vec<BigInt>> = integer_stiffness(problem)
@@ -240,7 +240,8 @@ fn dyadic(x: f64) -> (BigInt, i32) {
     (BigInt::from(sign * mant), e)
 }
 
-/// Checks one refutation exactly; `Err` says why it fails.
+/// Checks one refutation exactly; `Err` says why it fails. A certificate that fails as it
+/// stands is repaired once ([`repair`]) and checked again.
 fn check_refutation(problem: &Problem, comp: &Compliance, f: &Refutation) -> Result<(), String> {
     let (d, m) = (problem.dim(), problem.nodes());
     let v: Vec<usize> = (0..m)
@@ -262,21 +263,56 @@ fn check_refutation(problem: &Problem, comp: &Compliance, f: &Refutation) -> Res
     if zf.iter().all(|&x| x == 0.0) {
         return Err("the certificate's gap multipliers are all zero".into());
     }
-    // The same as integers over 2^-emin, for the exact evaluation, made when first needed.
-    let exact_z = std::cell::OnceCell::new();
-    let zi = || -> &Vec<BigInt> {
-        exact_z.get_or_init(|| {
-            let z: Vec<(BigInt, i32)> = zf.iter().map(|&x| dyadic(x)).collect();
-            let emin = z
-                .iter()
-                .filter(|(x, _)| !x.is_zero())
-                .map(|&(_, e)| e)
-                .min()
-                .unwrap_or(0);
-            z.iter().map(|(x, e)| x << ((e - emin) as usize)).collect()
-        })
-    };
-    // w (times den 2^-emin, a positive factor), exactly.
+    verdict(comp, f, d, &v, &zf, None).or_else(|e| match repair(comp, f, d, &v, &zf) {
+        Some(z) if verdict(comp, f, d, &v, &zf, Some(&z)).is_ok() => Ok(()),
+        _ => Err(e),
+    })
+}
+
+/// `x` as integers over one common power of two (the same positive factor for all).
+fn integers(x: &[f64]) -> Vec<BigInt> {
+    let parts: Vec<(BigInt, i32)> = x.iter().map(|&x| dyadic(x)).collect();
+    let emin = parts
+        .iter()
+        .filter(|(x, _)| !x.is_zero())
+        .map(|&(_, e)| e)
+        .min()
+        .unwrap_or(0);
+    parts
+        .iter()
+        .map(|(x, e)| x << ((e - emin) as usize))
+        .collect()
+}
+
+/// The exact check of a refutation's multipliers: `exact` (integers up to one positive
+/// factor), or when `None` the floats `zf` themselves, whose signs of `c_i` are first tried by
+/// the floating-point [`filter`].
+fn verdict(
+    comp: &Compliance,
+    f: &Refutation,
+    d: usize,
+    v: &[usize],
+    zf: &[f64],
+    exact: Option<&[BigInt]>,
+) -> Result<(), String> {
+    let m = zf.len();
+    // The exact multipliers, made when first needed.
+    let made = std::cell::OnceCell::new();
+    let zi = || -> &[BigInt] { exact.unwrap_or_else(|| made.get_or_init(|| integers(zf))) };
+    if let Some(z) = exact {
+        if z.iter().all(|x| x.is_zero()) {
+            return Err("the repaired multipliers are all zero".into());
+        }
+        if let Some(j) = (0..m)
+            .find(|&j| matches!(f.classes[j], Class::Separated | Class::Free) && z[j].is_negative())
+        {
+            return Err(format!(
+                "the repaired multiplier of node {}'s gap is negative",
+                j + 1
+            ));
+        }
+    }
+    // w (times a positive factor), exactly.
     let w = |a: usize| -> BigInt {
         let zi = zi();
         (0..m)
@@ -286,16 +322,20 @@ fn check_refutation(problem: &Problem, comp: &Compliance, f: &Refutation) -> Res
     };
     let mu = f.mu.is_finite().then(|| rat(f.mu));
     let mut some_negative_pressed = false;
-    for &i in &v {
-        let s = filter(comp, &zf, d, i, f.mu).unwrap_or_else(|| {
-            let wn = w(d * i);
-            let wt: Vec<BigInt> = (1..d).map(|c| w(d * i + c)).collect();
-            sign_c(&wn, &wt, mu.as_ref())
-        });
-        let strict_needed = f.pressed.is_none();
+    let strict_needed = f.cut == Cut::Sum;
+    for &i in v {
+        let s = exact
+            .is_none()
+            .then(|| filter(comp, zf, d, i, f.mu))
+            .flatten()
+            .unwrap_or_else(|| {
+                let wn = w(d * i);
+                let wt: Vec<BigInt> = (1..d).map(|c| w(d * i + c)).collect();
+                sign_c(&wn, &wt, mu.as_ref())
+            });
         match s {
             std::cmp::Ordering::Less => {
-                if f.pressed.as_ref().is_some_and(|p| p.contains(&i)) {
+                if matches!(&f.cut, Cut::Pressed(p) if p.contains(&i)) {
                     some_negative_pressed = true;
                 }
             }
@@ -314,10 +354,150 @@ fn check_refutation(problem: &Problem, comp: &Compliance, f: &Refutation) -> Res
             }
         }
     }
-    if f.pressed.is_some() && !some_negative_pressed {
-        return Err("no pressed node has w_n + mu ||w_t|| < 0".into());
+    match f.cut {
+        Cut::Pressed(_) if !some_negative_pressed => {
+            Err("no pressed node has w_n + mu ||w_t|| < 0".into())
+        }
+        Cut::Gap(j) if !zi()[j].is_positive() => Err(format!(
+            "the multiplier of node {}'s gap, the one claimed shut, is not positive",
+            j + 1
+        )),
+        _ => Ok(()),
     }
-    Ok(())
+}
+
+/// A repaired certificate, for a claim that some node cannot be pressed or some gap cannot
+/// open (cut [`Cut::Pressed`] or [`Cut::Gap`]), or a claim at `mu = infinity`. Such claims are
+/// degenerate: every valid certificate has `w_i = K^-1 Z` exactly zero at the nodes that some
+/// solution presses while sticking (`w_i . r_i = c_i r_n_i` must vanish on an open set of
+/// `r_i`), `c_i = 0` exactly (2D: `w_n + sigma mu w_t = 0`, `sigma` the sign of `w_t`) at those
+/// that only slip, and `w_t = 0` at infinite `mu`; floating point leaves a hair there, on
+/// either side. The repair makes them exact: these linear conditions on `z` (chosen where the
+/// floating-point `w` is within 1e-6 of them, relative to its scale), together with `z_j = 0`
+/// on the gap rows whose multiplier is negligible, are solved exactly with the other entries of
+/// `z` kept as they are (complete pivoting in floating point picks which are solved for).
+/// `None` when there is nothing to repair.
+fn repair(
+    comp: &Compliance,
+    f: &Refutation,
+    d: usize,
+    v: &[usize],
+    zf: &[f64],
+) -> Option<Vec<BigInt>> {
+    if f.cut == Cut::Sum && f.mu.is_finite() {
+        return None;
+    }
+    let m = zf.len();
+    let wf = |a: usize| -> f64 { (0..m).map(|j| comp.near[j][a] * zf[j]).sum() };
+    let w: Vec<Vec<f64>> = v
+        .iter()
+        .map(|&i| (0..d).map(|c| wf(d * i + c)).collect())
+        .collect();
+    let norm = |x: &[f64]| x.iter().map(|y| y * y).sum::<f64>().sqrt();
+    let big_w = w.iter().fold(0.0f64, |a, x| a.max(norm(x)));
+    let big_z = zf.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    let row = |a: usize| -> (Vec<BigInt>, Vec<f64>) {
+        (
+            (0..m).map(|j| comp.cols[j][a].clone()).collect(),
+            (0..m).map(|j| comp.near[j][a]).collect(),
+        )
+    };
+    let (mut exact, mut float) = (Vec::new(), Vec::new());
+    for (&i, wi) in v.iter().zip(&w) {
+        let wt = norm(&wi[1..]);
+        let components: Vec<usize> = if norm(wi) <= 1e-6 * big_w {
+            (0..d).collect()
+        } else if !f.mu.is_finite() {
+            (1..d).collect()
+        } else {
+            Vec::new()
+        };
+        for c in components {
+            let (e, x) = row(d * i + c);
+            exact.push(e);
+            float.push(x);
+        }
+        if d == 2
+            && f.mu.is_finite()
+            && norm(wi) > 1e-6 * big_w
+            && (wi[0] + f.mu * wt).abs() <= 1e-6 * (wi[0].abs() + f.mu * wt)
+        {
+            // q w_n + sigma p w_t = 0, mu = p / q.
+            let mu = rat(f.mu);
+            let sigma = if wi[1] < 0.0 { -1 } else { 1 };
+            let (p, q) = (mu.numer() * BigInt::from(sigma), mu.denom().clone());
+            let (en, xn) = row(d * i);
+            let (et, xt) = row(d * i + 1);
+            exact.push(en.iter().zip(&et).map(|(a, b)| &q * a + &p * b).collect());
+            float.push(
+                xn.iter()
+                    .zip(&xt)
+                    .map(|(a, b)| a + sigma as f64 * f.mu * b)
+                    .collect(),
+            );
+        }
+    }
+    if exact.is_empty() {
+        return None;
+    }
+    for j in 0..m {
+        if matches!(f.classes[j], Class::Separated | Class::Free) && zf[j] <= 1e-9 * big_z {
+            let mut e = vec![BigInt::zero(); m];
+            e[j] = BigInt::one();
+            let mut x = vec![0.0; m];
+            x[j] = 1.0;
+            exact.push(e);
+            float.push(x);
+        }
+    }
+    Some(kernel_point(exact, float, zf))
+}
+
+/// A point of the null space of the integer matrix `a` (rows over `x.len()` unknowns) close to
+/// `x`: the pivot columns chosen by complete pivoting on `af` (`a` in floating point, scaled
+/// as it likes), the free unknowns given `x`'s own values (as integers over a common power of
+/// two), the pivot unknowns solved for exactly. Returned times one positive integer.
+pub(crate) fn kernel_point(mut a: Vec<Vec<BigInt>>, af: Vec<Vec<f64>>, x: &[f64]) -> Vec<BigInt> {
+    let n = x.len();
+    let (order, rank) = float_pivot_order(af, n);
+    // Each row divided by the power of two common to its entries (the kernel is the same):
+    // rows of K made integers by one power of two for the whole matrix carry many trailing
+    // zeros, and elimination grows every entry with the size of the rows.
+    for row in a.iter_mut() {
+        if let Some(t) = row.iter().filter_map(|x| x.trailing_zeros()).min() {
+            if t > 0 {
+                row.iter_mut().for_each(|x| *x >>= t);
+            }
+        }
+    }
+    let free = integers(x);
+    if let Some(point) = kernel_point_fast(&a, &order, rank, &free) {
+        return point;
+    }
+    let pivots = eliminate(&mut a, &order);
+    // Pivot row k: D u_{p_k} + sum_f a_kf u_f = 0, D the same up to sign in every row. Scaled
+    // by |D| (positive), the free unknowns are |D| u_f and the pivots -sign(D) sum_f a_kf u_f.
+    let scale = a.first().map_or(BigInt::one(), |row| row[pivots[0]].abs());
+    let is_pivot: Vec<bool> = (0..n).map(|q| pivots.contains(&q)).collect();
+    let mut out: Vec<BigInt> = (0..n)
+        .map(|q| {
+            if is_pivot[q] {
+                BigInt::zero()
+            } else {
+                &scale * &free[q]
+            }
+        })
+        .collect();
+    for (row, &p) in a.iter().zip(&pivots) {
+        let mut v = BigInt::zero();
+        for (q, y) in row.iter().enumerate() {
+            if !is_pivot[q] && !y.is_zero() && !free[q].is_zero() {
+                v -= y * &free[q];
+            }
+        }
+        out[p] = if row[p].is_negative() { -v } else { v };
+    }
+    out
 }
 
 /// Unit round-off of `f64`.
@@ -371,16 +551,11 @@ fn filter(comp: &Compliance, z: &[f64], d: usize, i: usize, mu: f64) -> Option<s
 
 /// Names a refutation in a failure line.
 fn describe(f: &Refutation) -> String {
-    let class = |c: &Class| match c {
-        Class::Contact => 'C',
-        Class::Separated => 'S',
-        Class::Free => '*',
-        Class::Grazing => 'G',
-    };
-    let classes: String = f.classes.iter().map(class).collect();
-    let norm = match &f.pressed {
-        None => "sum r_n = 1".to_string(),
-        Some(p) => format!("{} nodes pressed", p.len()),
+    let classes = crate::patterns::program::describe(&f.classes);
+    let norm = match &f.cut {
+        Cut::Sum => "sum r_n = 1".to_string(),
+        Cut::Pressed(p) => format!("{} nodes pressed", p.len()),
+        Cut::Gap(j) => format!("the gap of node {} open", j + 1),
     };
     format!("infeasibility at mu = {} of [{classes}] ({norm})", f.mu)
 }
@@ -410,42 +585,14 @@ fn check_witness(
         .iter()
         .map(|&a| cols.iter().map(|&c| kf[(a, c)]).collect())
         .collect();
-    // Column order by complete pivoting in floating point: the best conditioned pivots first.
-    let order = float_pivot_order(float, cols.len());
-    let mut a: Vec<Vec<BigInt>> = rows
+    let a: Vec<Vec<BigInt>> = rows
         .iter()
         .map(|&a| cols.iter().map(|&c| k[a][c].clone()).collect())
         .collect();
-    let pivots = eliminate(&mut a, &order);
-    // Free unknowns from the floating-point witness, as integers over a common 2^-e.
-    let parts: Vec<(BigInt, i32)> = cols.iter().map(|&c| dyadic(u[c])).collect();
-    let emin = parts
-        .iter()
-        .filter(|(x, _)| !x.is_zero())
-        .map(|&(_, e)| e)
-        .min()
-        .unwrap_or(0);
-    let free: Vec<BigInt> = parts
-        .iter()
-        .map(|(x, e)| x << ((e - emin) as usize))
-        .collect();
-    // Pivot row k: D u_{p_k} + sum_f a_kf u_f = 0. Scaled by |D| (positive), the free unknowns
-    // are |D| u_f and the pivots -sign(D) sum_f a_kf u_f.
-    let scale = a.first().map_or(BigInt::one(), |row| row[pivots[0]].abs());
+    let free: Vec<f64> = cols.iter().map(|&c| u[c]).collect();
     let mut ux = vec![BigInt::zero(); n];
-    for (q, &c) in cols.iter().enumerate() {
-        if !pivots.contains(&q) {
-            ux[c] = &scale * &free[q];
-        }
-    }
-    for (row, &p) in a.iter().zip(&pivots) {
-        let mut v = BigInt::zero();
-        for (q, x) in row.iter().enumerate() {
-            if q != p && !x.is_zero() && !pivots.contains(&q) {
-                v -= x * &free[q];
-            }
-        }
-        ux[cols[p]] = if row[p].is_negative() { -v } else { v };
+    for (&c, x) in cols.iter().zip(kernel_point(a, float, &free)) {
+        ux[c] = x;
     }
     // r = K u (integers, up to one positive factor).
     let rx: Vec<BigInt> = (0..n)
@@ -518,25 +665,30 @@ fn check_witness(
     Ok(best)
 }
 
-/// Columns in the order complete pivoting in floating point takes them, the rest after.
-fn float_pivot_order(mut a: Vec<Vec<f64>>, n: usize) -> Vec<usize> {
+/// Columns in the order complete pivoting in floating point takes them, the rest after, and
+/// how many were taken (the numerical rank: a pivot below 1e-10 of its row's original size
+/// ends the elimination).
+fn float_pivot_order(mut a: Vec<Vec<f64>>, n: usize) -> (Vec<usize>, usize) {
     let mut order = Vec::with_capacity(n);
     let mut used = vec![false; n];
     let mut live: Vec<bool> = vec![true; a.len()];
+    let sizes: Vec<f64> = a
+        .iter()
+        .map(|row| row.iter().fold(0.0f64, |s, x| s.max(x.abs())))
+        .collect();
     loop {
         let mut best = (0.0f64, usize::MAX, usize::MAX);
         for (i, row) in a.iter().enumerate().filter(|(i, _)| live[*i]) {
-            let scale = row.iter().fold(0.0f64, |s, x| s.max(x.abs()));
-            if scale == 0.0 {
+            if sizes[i] == 0.0 {
                 continue;
             }
             for (c, x) in row.iter().enumerate().filter(|(c, _)| !used[*c]) {
-                if x.abs() / scale > best.0 {
-                    best = (x.abs() / scale, i, c);
+                if x.abs() / sizes[i] > best.0 {
+                    best = (x.abs() / sizes[i], i, c);
                 }
             }
         }
-        if best.1 == usize::MAX || best.0 < 1e-12 {
+        if best.1 == usize::MAX || best.0 < 1e-10 {
             break;
         }
         let (_, pr, pc) = best;
@@ -554,8 +706,79 @@ fn float_pivot_order(mut a: Vec<Vec<f64>>, n: usize) -> Vec<usize> {
             }
         }
     }
+    let rank = order.len();
     order.extend((0..n).filter(|&c| !used[c]));
-    order
+    (order, rank)
+}
+
+/// The fast path of [`kernel_point`]: the free unknowns (`order[rank..]`) substituted, the
+/// square system of the pivots (`order[..rank]`) solved by fraction-free Gaussian elimination
+/// (Bareiss) and back substitution. `None` when the exact rank differs from the floating-point
+/// one (a pivot vanishes exactly, or a row past the rank is not exactly zero).
+fn kernel_point_fast(
+    a: &[Vec<BigInt>],
+    order: &[usize],
+    rank: usize,
+    free: &[BigInt],
+) -> Option<Vec<BigInt>> {
+    let n = free.len();
+    let (piv, rest) = order.split_at(rank);
+    // Rows [A_p | -A_f x_f].
+    let mut m: Vec<Vec<BigInt>> = a
+        .iter()
+        .map(|row| {
+            let mut out: Vec<BigInt> = piv.iter().map(|&c| row[c].clone()).collect();
+            let mut b = BigInt::zero();
+            for &c in rest {
+                if !row[c].is_zero() && !free[c].is_zero() {
+                    b -= &row[c] * &free[c];
+                }
+            }
+            out.push(b);
+            out
+        })
+        .collect();
+    let mut prev = BigInt::one();
+    for s in 0..rank {
+        let p = (s..m.len()).find(|&i| !m[i][s].is_zero())?;
+        m.swap(s, p);
+        let (top, below) = m.split_at_mut(s + 1);
+        let pivot_row = &top[s];
+        for row in below.iter_mut() {
+            let f = row[s].clone();
+            for j in s + 1..=rank {
+                let mut v = &pivot_row[s] * &row[j];
+                if !f.is_zero() && !pivot_row[j].is_zero() {
+                    v -= &f * &pivot_row[j];
+                }
+                row[j] = v / &prev;
+            }
+            row[s] = BigInt::zero();
+        }
+        prev = m[s][s].clone();
+    }
+    if m[rank..].iter().any(|row| row.iter().any(|x| !x.is_zero())) {
+        return None;
+    }
+    // y = D x_p, D the last pivot (the determinant of the pivots' rows), by Cramer integers.
+    let det = if rank == 0 { BigInt::one() } else { prev };
+    let mut y = vec![BigInt::zero(); rank];
+    for i in (0..rank).rev() {
+        let mut v = &det * &m[i][rank];
+        for j in i + 1..rank {
+            v -= &m[i][j] * &y[j];
+        }
+        y[i] = v / &m[i][i];
+    }
+    let (scale, sign) = (det.abs(), det.is_negative());
+    let mut out = vec![BigInt::zero(); n];
+    for &c in rest {
+        out[c] = &scale * &free[c];
+    }
+    for (k, &c) in piv.iter().enumerate() {
+        out[c] = if sign { -&y[k] } else { y[k].clone() };
+    }
+    Some(out)
 }
 
 fn next_up(x: f64) -> f64 {
@@ -574,6 +797,29 @@ fn next_down(x: f64) -> f64 {
         f64::from_bits(x.to_bits() - 1)
     } else {
         -next_up(-x)
+    }
+}
+
+/// The exact check of refutations of one problem, as they are made (a search that relies on
+/// a decision only when its certificate passes). Holds the exact compliance.
+pub(crate) struct Checker {
+    problem: Problem,
+    comp: Option<Compliance>,
+}
+
+impl Checker {
+    pub(crate) fn new(problem: &Problem) -> Checker {
+        Checker {
+            problem: problem.clone(),
+            comp: compliance(problem),
+        }
+    }
+
+    pub(crate) fn check(&self, f: &Refutation) -> Result<(), String> {
+        match &self.comp {
+            None => Err("K is singular in exact arithmetic".into()),
+            Some(comp) => check_refutation(&self.problem, comp, f),
+        }
     }
 }
 

@@ -351,10 +351,7 @@ pub fn critical_with_control(
         let again = |f: &Refutation, mu: f64, sum: bool| -> Option<Refutation> {
             let mut form = Formulation::new(problem);
             form.refutations = Some(std::sync::Mutex::new(Vec::new()));
-            let norm = match (&f.pressed, sum) {
-                (Some(p), false) => Norm::Pressed(p),
-                _ => Norm::Sum,
-            };
+            let norm = if sum { Norm::Sum } else { f.cut.norm() };
             match form.decide_at(&f.classes, mu, norm, Goal::Feasible) {
                 Decision::No => form.refutations.take()?.into_inner().ok()?.pop(),
                 _ => None,

@@ -18,7 +18,7 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 
-use super::program::{Class, Decision, Entry, Formulation, Goal, POSITIVE};
+use super::program::{Class, Decision, Entry, Formulation, Goal, Norm, POSITIVE};
 use super::{leaf_pattern, Found, PatternInfo, Undecided};
 use crate::enumerate::{ContactPattern, Control, Progress};
 
@@ -90,15 +90,24 @@ impl Search<'_, '_> {
                 self.inherited.fetch_add(1, Ordering::Relaxed);
                 Decision::Yes { r, value: 1.0 }
             }
-            None => self.form.decide(&classes, goal),
+            None => self.form.decide_checked(&classes, goal),
         };
+        // In a certified run a prune stands only when its certificate passes exactly
+        // (`decide_checked`, `confirm`); otherwise the subtree is explored further, as if
+        // undecided.
         let witness = match decision {
             Decision::No => {
                 self.pruned_infeasible.fetch_add(1, Ordering::Relaxed);
                 self.close(depth);
                 return;
             }
-            Decision::Yes { value, .. } if !press.is_empty() && value <= POSITIVE => {
+            Decision::Yes { value, .. }
+                if !press.is_empty() && value <= POSITIVE && {
+                    let nodes: Vec<usize> =
+                        (0..m).filter(|&i| classes[i] == Class::Contact).collect();
+                    self.form.confirm(&classes, Norm::Pressed(&nodes)).is_ok()
+                } =>
+            {
                 self.pruned_unpressed.fetch_add(1, Ordering::Relaxed);
                 self.close(depth);
                 return;

@@ -6,8 +6,8 @@
 //! max-min program, no search, no pruning: it shares with the other methods only the
 //! formulation of one conic program.
 
-use super::program::{Class, Decision, Entry, Formulation, Goal, POSITIVE};
-use super::{pattern_of, Found, PatternInfo, Undecided};
+use super::program::{Class, Decision, Entry, Formulation, Goal, Norm, POSITIVE};
+use super::{describe, pattern_of, Found, PatternInfo, Undecided};
 use crate::enumerate::Control;
 
 pub(super) fn run(form: &Formulation, info: &mut PatternInfo, control: &Control) -> Found {
@@ -38,6 +38,12 @@ pub(super) fn run(form: &Formulation, info: &mut PatternInfo, control: &Control)
         for e in entries {
             match form.decide(&classes, Goal::MaxMin(&[e])) {
                 Decision::No => {
+                    if let Err(e) = form.confirm(&classes, Norm::Sum) {
+                        form.doubt(format!(
+                            "the trivial contact set [{}]: {e}",
+                            describe(&classes)
+                        ));
+                    }
                     trivial = true;
                     break;
                 }
@@ -46,7 +52,15 @@ pub(super) fn run(form: &Formulation, info: &mut PatternInfo, control: &Control)
                     break;
                 }
                 Decision::Yes { value, .. } if value > POSITIVE => support.push(e),
-                Decision::Yes { .. } => {}
+                Decision::Yes { value, .. } => {
+                    if let Err(why) = form.confirm_entry(&classes, e) {
+                        form.doubt(format!(
+                            "{} not positive in [{}] (reached {value:e}): {why}",
+                            e.name(),
+                            describe(&classes)
+                        ));
+                    }
+                }
             }
         }
         if let Some(reason) = unsure {

@@ -24,6 +24,7 @@
 //! unsure. Every reported witness is checked again here against WP itself.
 
 mod bnb;
+mod certify;
 mod faces;
 pub(crate) mod program;
 mod pyramid;
@@ -32,7 +33,8 @@ use std::fmt;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-use program::{Class, Counters, Entry, Formulation, POSITIVE};
+pub use certify::PatternCertificate;
+use program::{describe, Class, Counters, Entry, Formulation, Norm, POSITIVE};
 
 use crate::enumerate::{
     check_zero_tol, ContactPattern, Control, EnumerateError, Limits, NodeStatus, Outcome, Progress,
@@ -86,6 +88,10 @@ pub struct PatternSettings {
     pub zero_tol: f64,
     /// Bounds on the run; none by default.
     pub limits: Limits,
+    /// Certify the answer in exact arithmetic ([`Patterns::certificate`]): every decision
+    /// the search took is backed by an infeasibility certificate, checked exactly afterwards
+    /// with each witness. Off by default (it adds programs and exact arithmetic).
+    pub certify: bool,
 }
 
 impl Default for PatternSettings {
@@ -94,6 +100,7 @@ impl Default for PatternSettings {
             method: PatternMethod::Bnb,
             zero_tol: 1e-9,
             limits: Limits::default(),
+            certify: false,
         }
     }
 }
@@ -175,6 +182,8 @@ pub struct Patterns {
     pub undecided: Vec<Undecided>,
     /// Diagnostics.
     pub info: PatternInfo,
+    /// The exact certificate, when [`PatternSettings::certify`] asked for one.
+    pub certificate: Option<PatternCertificate>,
 }
 
 /// What a method hands to the finishing step: realised patterns (not necessarily maximal).
@@ -219,7 +228,11 @@ pub fn enumerate_patterns_with_control(
     let (scaled, scales) = problem.equilibrated();
     let problem = &scaled;
     let control = Control::new(settings.limits, cancel);
-    let form = Formulation::new(problem);
+    let mut form = Formulation::new(problem);
+    if settings.certify {
+        form.refutations = Some(std::sync::Mutex::new(Vec::new()));
+        form.checker = Some(crate::critical::certify::Checker::new(problem));
+    }
     let mut info = PatternInfo::default();
     let found = if control.must_stop(0) {
         Found {
@@ -242,16 +255,23 @@ pub fn enumerate_patterns_with_control(
     };
     info.realised = found.patterns.len() as u64;
     let mut patterns = Vec::new();
+    // The witnesses in the units the search ran in, for the certificate.
+    let mut scaled = Vec::new();
     let mut undecided = found.undecided;
     for q in maximal(found.patterns) {
         let finished = finish(&form, &q).and_then(|p| {
             let (u, r) = original.unscale(&scales, &p.u, &p.r);
             crate::critical::check_at(original, original.mu(), &u, &r)
                 .map_err(|why| format!("the witness in the problem's own units: {why}"))?;
-            Ok(Pattern { u, r, ..p })
+            Ok((Pattern { u, r, ..p.clone() }, p))
         });
         match finished {
-            Ok(p) => patterns.push(p),
+            Ok((p, s)) => {
+                patterns.push(p);
+                if settings.certify {
+                    scaled.push(s);
+                }
+            }
             Err(reason) => undecided.push(Undecided {
                 contact: q.iter().map(|&c| c == ContactPattern::Contact).collect(),
                 reason,
@@ -264,7 +284,6 @@ pub fn enumerate_patterns_with_control(
     info.retries = Counters::get(&c.retries);
     info.uncertain = Counters::get(&c.uncertain);
     info.near_degenerate = Counters::get(&c.near_degenerate);
-    info.seconds = start.elapsed().as_secs_f64();
     let outcome = match control.stopped() {
         Some(stop) => Outcome::Incomplete(stop),
         // The patterns below an undecided contact set may be missing.
@@ -272,11 +291,17 @@ pub fn enumerate_patterns_with_control(
         None if patterns.is_empty() => Outcome::NotWedged,
         None => Outcome::Wedged,
     };
+    let certificate = settings.certify.then(|| {
+        let complete = !matches!(outcome, Outcome::Incomplete(_));
+        certify::certify(&mut form, settings.method, &scaled, complete)
+    });
+    info.seconds = start.elapsed().as_secs_f64();
     Ok(Patterns {
         outcome,
         patterns,
         undecided,
         info,
+        certificate,
     })
 }
 
@@ -508,16 +533,50 @@ pub(crate) fn leaf_pattern(
         .collect();
     let presses = wanted.len();
     wanted.extend((0..form.m).filter(|&i| !contact[i]).map(Entry::Gap));
+    // In a certified run, every entry left out is confirmed zero by a certificate (or the
+    // decision is doubted).
     let Some(support) = form.support(&classes, &wanted)? else {
+        if let Err(e) = form.confirm(&classes, Norm::Sum) {
+            form.doubt(format!("the trivial leaf [{}]: {e}", describe(&classes)));
+        }
         return Ok(None);
     };
-    let pressed = support
-        .entries
+    let missing: Vec<Entry> = wanted
         .iter()
-        .filter(|e| matches!(e, Entry::Press(_)))
-        .count();
+        .copied()
+        .filter(|e| !support.entries.contains(e))
+        .collect();
+    let pressed = presses
+        - missing
+            .iter()
+            .filter(|e| matches!(e, Entry::Press(_)))
+            .count();
     if pressed < presses {
+        // No solution presses the whole contact set: shown at once, or by one node that no
+        // solution presses.
+        let nodes: Vec<usize> = (0..form.m).filter(|&i| contact[i]).collect();
+        if let Err(e) = form.confirm(&classes, Norm::Pressed(&nodes)) {
+            let one = missing
+                .iter()
+                .filter(|e| matches!(e, Entry::Press(_)))
+                .any(|&p| form.confirm_entry(&classes, p).is_ok());
+            if !one {
+                form.doubt(format!(
+                    "the leaf [{}], whose contact nodes are not all pressed: {e}",
+                    describe(&classes)
+                ));
+            }
+        }
         return Ok(None);
+    }
+    for &e in &missing {
+        if let Err(why) = form.confirm_entry(&classes, e) {
+            form.doubt(format!(
+                "{} not positive at the leaf [{}]: {why}",
+                e.name(),
+                describe(&classes)
+            ));
+        }
     }
     Ok(Some(pattern_of(form.m, &support.entries)))
 }

@@ -40,6 +40,20 @@ impl Class {
     }
 }
 
+/// Classes as a string, one letter per node: `C` contact, `S` separated, `*` free, `G`
+/// grazing.
+pub(crate) fn describe(classes: &[Class]) -> String {
+    classes
+        .iter()
+        .map(|c| match c {
+            Class::Contact => 'C',
+            Class::Separated => 'S',
+            Class::Free => '*',
+            Class::Grazing => 'G',
+        })
+        .collect()
+}
+
 /// A quantity the program can push up: the normal pressure of a node, its (scaled) gap, or its
 /// friction slack `mu r_n - ||r_t||`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -47,6 +61,17 @@ pub(crate) enum Entry {
     Press(usize),
     Gap(usize),
     Stick(usize),
+}
+
+impl Entry {
+    /// Names the entry (nodes counted from 1).
+    pub(crate) fn name(self) -> String {
+        match self {
+            Entry::Press(i) => format!("the pressure of node {}", i + 1),
+            Entry::Gap(i) => format!("the gap of node {}", i + 1),
+            Entry::Stick(i) => format!("the friction slack of node {}", i + 1),
+        }
+    }
 }
 
 /// The goal of one program.
@@ -71,6 +96,27 @@ pub(crate) enum Norm<'a> {
     /// `r_n_i >= 1` at every listed node (a nonempty list): a solution pressing all of them.
     /// Its infeasibility is a certificate that no solution presses them all at once.
     Pressed(&'a [usize]),
+    /// The scaled gap of this node (separated or free) `>= 1`: its infeasibility is a
+    /// certificate that no solution opens that gap.
+    Gap(usize),
+}
+
+/// A [`Norm`] as kept by a [`Refutation`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) enum Cut {
+    Sum,
+    Pressed(Vec<usize>),
+    Gap(usize),
+}
+
+impl Cut {
+    pub(crate) fn norm(&self) -> Norm<'_> {
+        match self {
+            Cut::Sum => Norm::Sum,
+            Cut::Pressed(p) => Norm::Pressed(p),
+            Cut::Gap(j) => Norm::Gap(*j),
+        }
+    }
 }
 
 /// The answer to one program, in the problem's terms.
@@ -122,8 +168,8 @@ pub(crate) struct Support {
 pub(crate) struct Refutation {
     pub classes: Vec<Class>,
     pub mu: f64,
-    /// `None` for [`Norm::Sum`], the listed nodes for [`Norm::Pressed`].
-    pub pressed: Option<Vec<usize>>,
+    /// The normalisation.
+    pub cut: Cut,
     /// Empty when the solver gave no certificate (a program without variables).
     pub z: Vec<f64>,
 }
@@ -140,6 +186,13 @@ pub(crate) struct Formulation<'a> {
     pub counters: Counters,
     /// When set, every infeasible [`Goal::Feasible`] program is kept here with its certificate.
     pub refutations: Option<Mutex<Vec<Refutation>>>,
+    /// Decisions a search relied on that [`Formulation::confirm`] could not back.
+    pub doubts: Mutex<Vec<String>>,
+    /// With kept refutations, checks the refutations of [`Formulation::confirm`] exactly as
+    /// they are made.
+    pub checker: Option<crate::critical::certify::Checker>,
+    /// Refutations checked by the checker as they were made.
+    pub settled: AtomicU64,
 }
 
 impl<'a> Formulation<'a> {
@@ -161,7 +214,51 @@ impl<'a> Formulation<'a> {
             scale,
             counters: Counters::default(),
             refutations: None,
+            doubts: Mutex::new(Vec::new()),
+            checker: None,
+            settled: AtomicU64::new(0),
         }
+    }
+
+    /// When refutations are kept (a certified run): backs a decision of the search that the
+    /// program of `classes` normalised by `norm` has no solution (taken from an optimal value
+    /// at or below [`POSITIVE`], or from an infeasible program of another goal) with a
+    /// refutation of its own, solved now with [`Goal::Feasible`] and checked exactly at once
+    /// ([`Formulation::checker`]). Returns whether the decision stands; when it does not, the
+    /// refutation is not kept, and a search should not rely on the decision (it explores
+    /// further instead), or, when it must, record `what()` among [`Formulation::doubts`] with
+    /// [`Formulation::doubt`]. Without kept refutations, every decision stands.
+    pub(crate) fn confirm(&self, classes: &[Class], norm: Norm) -> Result<(), String> {
+        if self.refutations.is_none() {
+            return Ok(());
+        }
+        match self.decide_kept(classes, self.mu, norm, Goal::Feasible) {
+            (Decision::No, Some(f)) => self.settle(f),
+            (Decision::No, None) => Err("the solver gave no certificate".into()),
+            (Decision::Yes { .. }, _) => Err("a solution exists after all".into()),
+            (Decision::Unsure(why), _) => Err(format!("the solver could not decide ({why})")),
+        }
+    }
+
+    /// Records a decision the search relied on without a certificate.
+    pub(crate) fn doubt(&self, what: String) {
+        self.doubts.lock().expect("no panics while held").push(what);
+    }
+
+    /// [`Formulation::confirm`] of a decision that no solution of `classes` makes the entry
+    /// `e` positive: a pressure by [`Norm::Pressed`] of its node, a gap by [`Norm::Gap`]. (A
+    /// stick slack is only described, never relied on: it always stands.)
+    pub(crate) fn confirm_entry(&self, classes: &[Class], e: Entry) -> Result<(), String> {
+        let node;
+        let norm = match e {
+            Entry::Press(i) => {
+                node = [i];
+                Norm::Pressed(&node)
+            }
+            Entry::Gap(i) => Norm::Gap(i),
+            Entry::Stick(_) => return Ok(()),
+        };
+        self.confirm(classes, norm)
     }
 
     /// The scaled gap `u_n_i` of reactions `r` (all `dim*m`).
@@ -199,6 +296,55 @@ impl<'a> Formulation<'a> {
     /// (`f64::INFINITY`: the friction cones become `r_n >= 0`, any `r_t`) and normalisation
     /// `norm`. A returned `r` is rescaled to `sum r_n = 1`.
     pub(crate) fn decide_at(&self, classes: &[Class], mu: f64, norm: Norm, goal: Goal) -> Decision {
+        let (decision, refutation) = self.decide_kept(classes, mu, norm, goal);
+        if let (Some(log), Some(f), Goal::Feasible) = (&self.refutations, refutation, goal) {
+            log.lock().expect("no panics while held").push(f);
+        }
+        decision
+    }
+
+    /// [`Formulation::decide`] for a search that prunes on an infeasible answer: in a certified
+    /// run the refutation is settled at once ([`Formulation::settle`]), and one that fails its
+    /// exact check turns the answer into [`Decision::Unsure`], so that nothing is pruned on it.
+    pub(crate) fn decide_checked(&self, classes: &[Class], goal: Goal) -> Decision {
+        match self.decide_kept(classes, self.mu, Norm::Sum, goal) {
+            (Decision::No, Some(f)) => match self.settle(f) {
+                Ok(()) => Decision::No,
+                Err(e) => Decision::Unsure(e),
+            },
+            (decision, _) => decision,
+        }
+    }
+
+    /// A refutation a certified search relies on: checked exactly at once by the
+    /// [`Formulation::checker`] and counted in [`Formulation::settled`] (or, without a
+    /// checker, kept for a check at the end).
+    fn settle(&self, f: Refutation) -> Result<(), String> {
+        match &self.checker {
+            Some(checker) => {
+                checker
+                    .check(&f)
+                    .map_err(|e| format!("its certificate fails exactly: {e}"))?;
+                self.settled.fetch_add(1, Ordering::Relaxed);
+            }
+            None => {
+                if let Some(log) = &self.refutations {
+                    log.lock().expect("no panics while held").push(f);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// [`Formulation::decide_at`], with the refutation of an infeasible [`Goal::Feasible`]
+    /// program returned rather than kept (when refutations are kept).
+    fn decide_kept(
+        &self,
+        classes: &[Class],
+        mu: f64,
+        norm: Norm,
+        goal: Goal,
+    ) -> (Decision, Option<Refutation>) {
         let (d, m) = (self.dim, self.m);
         // Variable offsets of the nodes with a reaction.
         let mut offset = vec![usize::MAX; m];
@@ -209,8 +355,10 @@ impl<'a> Formulation<'a> {
         }
         if vars == 0 {
             // Every reaction is zero: only the trivial solution.
-            self.refuted(classes, mu, norm, goal, Vec::new());
-            return Decision::No;
+            return (
+                Decision::No,
+                self.refuted(classes, mu, norm, goal, Vec::new()),
+            );
         }
         let (entries, weights): (&[Entry], Option<&[f64]>) = match goal {
             Goal::Feasible => (&[], None),
@@ -220,7 +368,7 @@ impl<'a> Formulation<'a> {
         debug_assert!(weights.is_none() || (mu.is_finite() && matches!(norm, Norm::Sum)));
         let t = (!entries.is_empty() || weights.is_some()).then_some(vars);
         let mut p = Program::new(vars + t.is_some() as usize);
-        let gap = |i: usize, minus_t: bool| {
+        let gap = |i: usize, minus_t: bool, constant: f64| {
             let mut terms: Vec<(usize, f64)> = (0..m)
                 .filter(|&j| classes[j].has_r())
                 .flat_map(|j| (0..d).map(move |c| (j, c)))
@@ -230,7 +378,7 @@ impl<'a> Formulation<'a> {
             if minus_t {
                 terms.push((vars, -1.0));
             }
-            Affine::new(terms, 0.0)
+            Affine::new(terms, constant)
         };
         let stick: Vec<usize> = entries
             .iter()
@@ -244,11 +392,18 @@ impl<'a> Formulation<'a> {
         for i in 0..m {
             let c = classes[i];
             gap_rows.push(match c {
-                Class::Contact | Class::Grazing => (true, p.zero(gap(i, false))),
-                Class::Separated | Class::Free => (
-                    false,
-                    p.nonneg(gap(i, t.is_some() && entries.contains(&Entry::Gap(i)))),
-                ),
+                Class::Contact | Class::Grazing => (true, p.zero(gap(i, false, 0.0))),
+                Class::Separated | Class::Free => {
+                    let cut = matches!(norm, Norm::Gap(j) if j == i);
+                    (
+                        false,
+                        p.nonneg(gap(
+                            i,
+                            t.is_some() && entries.contains(&Entry::Gap(i)),
+                            if cut { -1.0 } else { 0.0 },
+                        )),
+                    )
+                }
             });
             if c.has_r() {
                 let o = offset[i];
@@ -297,6 +452,10 @@ impl<'a> Formulation<'a> {
                     p.nonneg(Affine::new(vec![(offset[i], 1.0)], -1.0));
                 }
             }
+            Norm::Gap(j) => {
+                // The gap row itself carries the cut (above).
+                debug_assert!(matches!(classes[j], Class::Separated | Class::Free));
+            }
         }
         if let Some(t) = t {
             if weights.is_some() {
@@ -315,13 +474,13 @@ impl<'a> Formulation<'a> {
         let (answer, stats) = solve(&p);
         Counters::add(&self.counters.socps, stats.solves);
         Counters::add(&self.counters.retries, stats.retries);
-        match answer {
+        let decision = match answer {
             Answer::Optimal { x, .. } => {
                 let mut r = vec![0.0; d * m];
                 for i in (0..m).filter(|&i| classes[i].has_r()) {
                     r[d * i..d * i + d].copy_from_slice(&x[offset[i]..offset[i] + d]);
                 }
-                if let Norm::Pressed(_) = norm {
+                if !matches!(norm, Norm::Sum) {
                     let total: f64 = (0..m).map(|i| r[d * i]).sum();
                     r.iter_mut().for_each(|x| *x /= total);
                 }
@@ -332,43 +491,55 @@ impl<'a> Formulation<'a> {
                 Decision::Yes { r, value }
             }
             Answer::Infeasible { y } => {
-                if self.refutations.is_some() && !y.is_empty() {
-                    let z = gap_rows
+                let z = if self.refutations.is_some() && !y.is_empty() {
+                    gap_rows
                         .iter()
                         .enumerate()
                         .map(|(i, &(zero, k))| {
                             let row = if zero { k } else { p.nonneg_row(k) };
                             y[row] / self.scale[i]
                         })
-                        .collect();
-                    self.refuted(classes, mu, norm, goal, z);
+                        .collect()
                 } else {
-                    self.refuted(classes, mu, norm, goal, Vec::new());
-                }
-                Decision::No
+                    Vec::new()
+                };
+                return (Decision::No, self.refuted(classes, mu, norm, goal, z));
             }
             Answer::Uncertain { reason } => {
                 Counters::add(&self.counters.uncertain, 1);
                 Decision::Unsure(reason)
             }
-        }
+        };
+        (decision, None)
     }
 
-    /// Keeps a refutation when they are kept (and the goal is [`Goal::Feasible`]).
-    fn refuted(&self, classes: &[Class], mu: f64, norm: Norm, goal: Goal, z: Vec<f64>) {
-        let (Some(log), Goal::Feasible) = (&self.refutations, goal) else {
-            return;
+    /// The refutation of an infeasible program, when they are kept (and the goal is
+    /// [`Goal::Feasible`]).
+    fn refuted(
+        &self,
+        classes: &[Class],
+        mu: f64,
+        norm: Norm,
+        goal: Goal,
+        z: Vec<f64>,
+    ) -> Option<Refutation> {
+        // A max-min program is infeasible exactly when its feasibility program is (its `t` is
+        // free below), and the exact check rests on the gap multipliers alone, so its
+        // certificate is kept as the feasibility program's.
+        let (Some(_), Goal::Feasible | Goal::MaxMin(_)) = (&self.refutations, goal) else {
+            return None;
         };
-        let pressed = match norm {
-            Norm::Sum => None,
-            Norm::Pressed(nodes) => Some(nodes.to_vec()),
+        let cut = match norm {
+            Norm::Sum => Cut::Sum,
+            Norm::Pressed(nodes) => Cut::Pressed(nodes.to_vec()),
+            Norm::Gap(j) => Cut::Gap(j),
         };
-        log.lock().expect("no panics while held").push(Refutation {
+        Some(Refutation {
             classes: classes.to_vec(),
             mu,
-            pressed,
+            cut,
             z,
-        });
+        })
     }
 
     /// The support of the cone of `classes`: the entries among `wanted` that some solution makes

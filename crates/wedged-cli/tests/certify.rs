@@ -1,4 +1,6 @@
-//! `wedged critical --certify`: the answer re-checked in exact rational arithmetic.
+//! `--certify`: answers re-checked in exact rational arithmetic. `wedged critical` (the
+//! bracket of `mu*`) and `wedged enumerate` with a sign-pattern method (the patterns proven to
+//! be all the maximal realised ones).
 
 use std::path::Path;
 use std::process::{Command, Output};
@@ -20,16 +22,23 @@ fn example(name: &str) -> String {
         .to_string()
 }
 
-fn certified_report(args: &[&str]) -> Value {
+/// A run that exits 0 with `"certified": true` in the JSON on stdout.
+fn certified_json(args: &[&str]) -> Value {
     let out = wedged(args);
     assert_eq!(
         out.status.code(),
         Some(0),
-        "{}",
+        "{args:?}: {}",
         String::from_utf8_lossy(&out.stderr)
     );
     let report: Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
-    assert_eq!(report["certified"], true, "{report}");
+    assert_eq!(report["certified"], true, "{args:?}: {report}");
+    report
+}
+
+/// A certified `critical` run, its exact upper end checked against the reported one.
+fn certified_report(args: &[&str]) -> Value {
+    let report = certified_json(args);
     let cert = &report["certificate"];
     assert_eq!(cert["refutations_failed"], 0);
     assert!(cert["refutations_checked"].as_u64().unwrap() > 0);
@@ -112,4 +121,63 @@ fn certify_with_enumerate_is_refused() {
         "{err}"
     );
     assert_eq!(err.trim().lines().count(), 1, "{err}");
+}
+
+#[test]
+fn the_3d_plug_is_certified_by_both_exact_methods() {
+    let file = example("plug3d.toml");
+    for method in ["bnb", "pattern-faces"] {
+        let report = certified_json(&[
+            "enumerate",
+            &file,
+            "--method",
+            method,
+            "--certify",
+            "--json",
+            "-",
+        ]);
+        assert_eq!(report["certified_complete"], true, "{method}");
+        assert!(!report["patterns"].as_array().unwrap().is_empty());
+    }
+    let out = wedged(&["enumerate", &file, "--certify"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("certified in exact rational arithmetic")
+            && text.contains("all the maximal patterns"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_2d_plug_by_bnb_is_certified() {
+    certified_json(&[
+        "enumerate",
+        &example("plug2d_gmsh.toml"),
+        "--method",
+        "bnb",
+        "--certify",
+        "--json",
+        "-",
+    ]);
+}
+
+/// The pyramid's candidates come from floating-point double description: not certified, said
+/// plainly, exit code 1.
+#[test]
+fn the_pyramid_method_is_not_certified() {
+    let out = wedged(&[
+        "enumerate",
+        &example("plug3d.toml"),
+        "--method",
+        "pyramid",
+        "--certify",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("WARNING: exact certification failed: the pyramid method"),
+        "{text}"
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("exact certification failed"), "{err}");
 }
