@@ -21,7 +21,7 @@
 //!   `mu = upper`, checked) exists there, and no friction coefficient below `lower` wedges the
 //!   body (certified by checked Farkas certificates): the true `mu*` is in `[lower, upper]`.
 //!   `tol_achieved` = `(upper - lower) / upper`, the width actually certified, which may be wider
-//!   than `tol`, the width asked: the conic solver's certificates reach about 1e-7 relative.
+//!   than `tol`, the width asked: in 3D the certificates may stop at about 1e-7 relative.
 //! - `never`: certified that no friction coefficient gives a nontrivial wedged configuration;
 //!   `mu_critical`, `lower`, `upper`, `tol_achieved`, `witness` and `pattern` are `null`.
 //! - `incomplete` (`"complete": false`, `"stopped"` says why): a limit, Ctrl-C, or solver

@@ -24,9 +24,13 @@
 //! (a node whose pressure vanishes at the optimum), probes below `theta` and then bisection take
 //! over ([`Ctx::leaf_threshold`]). Each point is made an exact solution of the leaf (projected
 //! onto its equalities) before its ratio is taken, so `upper` is the ratio of an actual
-//! solution. Every probe found infeasible carries a checked Farkas certificate; the bracket is
-//! narrowed to `tol` or until the solver's feasibility resolution (about 1e-7 relative) stops
-//! it, and the bracket reported is the one certified.
+//! solution. Every probe found infeasible carries a checked Farkas certificate. Once the
+//! descent stalls, `polish.rs` locates the threshold more closely from the tight constraints of
+//! the least-norm certificate (the friction coefficient where they become singular), makes the
+//! point there exact, and builds the certificate just below it: in 2D this reaches `tol`
+//! (1e-9 by default). Otherwise the bracket is narrowed to `tol` or until the solver's
+//! feasibility resolution (about 1e-7 relative) stops it. The bracket reported is the one
+//! certified.
 //!
 //! Three methods ([`CriticalMethod`]):
 //! - `bnb` (`bnb.rs`): branch and bound over contact sets with an incumbent; a subtree is
@@ -43,6 +47,7 @@ mod bnb;
 pub mod certify;
 mod enumerate;
 mod faces;
+mod polish;
 
 use std::fmt;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -586,6 +591,7 @@ impl Ctx<'_, '_> {
         let mut lo = 0.0f64;
         let mut gap = self.tol;
         let mut descend = true;
+        let mut polished = false;
         let better = |t: f64, than: f64| t < than * (1.0 - self.tol * 0.01);
         let certified = |at: f64| {
             self.tally.certificates.fetch_add(1, Ordering::Relaxed);
@@ -637,6 +643,26 @@ impl Ctx<'_, '_> {
                     }
                 }
                 descend = false;
+            }
+            if lo == 0.0 && !polished {
+                // The threshold is reached (Dinkelbach stalls): its own solution gives the
+                // certificate just below it (polish.rs), closer than the solver can.
+                polished = true;
+                if let Some((t, guess)) = polish::sharpen(self.form, contact, hi) {
+                    if let Some((t, p)) = self.exact_point(contact, &guess, t) {
+                        if t < hi {
+                            (hi, r) = (t, p);
+                        }
+                    }
+                }
+                let at = hi * (1.0 - 0.5 * self.tol);
+                if let Some(f) = polish::refute_below(self.form, contact, hi, at) {
+                    if let Some(log) = &self.form.refutations {
+                        log.lock().expect("no panics while held").push(f);
+                    }
+                    lo = certified(at);
+                    continue;
+                }
             }
             let probe = if lo > 0.0 {
                 0.5 * (lo + hi)
