@@ -83,8 +83,8 @@ The critical friction coefficient mu* is the least friction coefficient at which
 wedged (a nontrivial equilibrium without load). It is reported as a bracket [lower, upper]: a
 wedged configuration exists at upper (checked against the wedged problem; mu* = upper), and none
 exists below lower (certified by checked infeasibility certificates of the conic solver). The
-width actually certified reaches --tol in 2D; in 3D it may stop at about 1e-7 relative (the
-solver's resolution), and the summary says so. \"never\" (certified: no friction coefficient wedges the
+width actually certified normally reaches --tol; where it cannot (now and then in 3D), it stops
+at about 1e-7 relative (the solver's resolution), and the summary says so. \"never\" (certified: no friction coefficient wedges the
 body) is a result, exit code 0. The problem file's mu is not needed; --method enumerate starts
 its enumeration there (or at 1) and doubles it until something wedges.";
 

@@ -787,35 +787,40 @@ fn scale_and_node_order_do_not_change_mu_star() {
     println!("scale and order: {compared} comparisons");
 }
 
-/// In 2D the threshold's own solution gives the certificate just below it
-/// (`critical/polish.rs`): the brackets of bnb (the default) reach the tolerance asked, not
-/// only the solver's resolution (about 1e-7). Enumerate's per-pattern thresholds mostly do (one
-/// leaf of `2D, m = 3, seed 2034` keeps the solver's 1e-7: its tight set is not read right);
-/// at least nine in ten must. Every run here is also certified exactly.
+/// The threshold's own solution gives the certificate just below it (`critical/polish.rs`):
+/// the brackets reach the tolerance asked, not only the solver's resolution (about 1e-7). In
+/// 2D every bnb bracket must (bnb is the default). Enumerate's per-pattern thresholds, and 3D,
+/// where a leaf's tight set can be misread (a leaf whose threshold is a limit as a pressure
+/// vanishes has none to read), keep the solver's bracket now and then: at least four in five
+/// must reach it (measured: 41 of 42 in 2D, 23 and 22 of 25 in 3D). Every run here is also
+/// certified exactly.
 #[test]
-fn two_d_brackets_reach_the_tolerance() {
+fn brackets_reach_the_tolerance() {
     let tol = CriticalSettings::default().tol;
-    for method in [CriticalMethod::Bnb, CriticalMethod::Enumerate] {
-        let mut wide = Vec::new();
-        let mut runs = 0;
-        for case in cases().iter().filter(|c| c.dim == 2 && c.wedged()) {
-            for (_, c) in case.results.iter().filter(|(m, _)| *m == method) {
-                runs += 1;
-                if c.info.tol_achieved > tol * (1.0 + 1e-6) {
-                    wide.push(format!("{}: {:e}", case.name(), c.info.tol_achieved));
+    for dim in [2, 3] {
+        for method in [CriticalMethod::Bnb, CriticalMethod::Enumerate] {
+            let mut wide = Vec::new();
+            let mut runs = 0;
+            for case in cases().iter().filter(|c| c.dim == dim && c.wedged()) {
+                for (_, c) in case.results.iter().filter(|(m, _)| *m == method) {
+                    runs += 1;
+                    if c.info.tol_achieved > tol * (1.0 + 1e-6) {
+                        wide.push(format!("{}: {:e}", case.name(), c.info.tol_achieved));
+                    }
                 }
             }
-        }
-        println!(
-            "2D brackets, {method}: {} of {runs} runs reach tol = {tol:e}; wider: {wide:?}",
-            runs - wide.len()
-        );
-        match method {
-            CriticalMethod::Bnb => assert!(wide.is_empty(), "{method} wider than tol: {wide:#?}"),
-            _ => assert!(
-                10 * wide.len() <= runs,
-                "{method} wider than tol: {wide:#?}"
-            ),
+            println!(
+                "{dim}D brackets, {method}: {} of {runs} runs reach tol = {tol:e}; wider: {wide:?}",
+                runs - wide.len()
+            );
+            if dim == 2 && method == CriticalMethod::Bnb {
+                assert!(wide.is_empty(), "{method} wider than tol: {wide:#?}");
+            } else {
+                assert!(
+                    5 * wide.len() <= runs,
+                    "{dim}D {method} wider than tol: {wide:#?}"
+                );
+            }
         }
     }
 }

@@ -27,8 +27,8 @@
 //! solution. Every probe found infeasible carries a checked Farkas certificate. Once the
 //! descent stalls, `polish.rs` locates the threshold more closely from the tight constraints of
 //! the least-norm certificate (the friction coefficient where they become singular), makes the
-//! point there exact, and builds the certificate just below it: in 2D this reaches `tol`
-//! (1e-9 by default). Otherwise the bracket is narrowed to `tol` or until the solver's
+//! point there exact, and builds the certificate just below it: this reaches `tol` (1e-9 by
+//! default) where the tight set can be read. Otherwise the bracket is narrowed to `tol` or until the solver's
 //! feasibility resolution (about 1e-7 relative) stops it. The bracket reported is the one
 //! certified.
 //!

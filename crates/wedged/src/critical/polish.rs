@@ -13,16 +13,18 @@
 //!    where the solver sees clearly which constraints are tight
 //!    ([`Formulation::least_certificate`]);
 //! 2. at the `mu` wanted, just below `theta`, the least-norm solution of those constraints as
-//!    equalities (2D: `w_n + mu w_t + 1 = 0` on the tight side or sides; 3D: `w_t` along its
-//!    direction at `mu_1` and `w_n + mu ||w_t|| + 1 = 0`, or `w_t = 0`; `z_j = 0` where it
-//!    was zero) is found by a singular value decomposition;
+//!    equalities (2D: `w_n + mu w_t + 1 = 0` on the tight side or sides; 3D: `w_n + mu (w_t .
+//!    e) + 1 = 0` with `e` the direction of `w_t`, turned to the solution's own `w_t` a few
+//!    times, or `w_t = 0`, `w_n = -1` where `w_t` vanished; `z_j = 0` where it was zero) is
+//!    found by a singular value decomposition;
 //! 3. it is checked in floating point against every inequality, with a margin far above
 //!    round-off. When certificates are kept, it joins them and is re-checked exactly like every
 //!    other.
 //!
 //! This is how a leaf's bracket reaches the `tol` asked (1e-9 by default) instead of the
 //! solver's 1e-7. When the guess fails the check (the tight set changes between `mu_1` and
-//! `mu`, or a degenerate optimum), the leaf keeps the solver's bracket.
+//! `mu`, a degenerate optimum, or a threshold that is a limit as a pressure vanishes, with no
+//! singular point to find), the leaf keeps the solver's bracket.
 
 use nalgebra::{DMatrix, DVector};
 
@@ -133,14 +135,10 @@ impl Tight {
                 }
             } else if -(w[0] + 1.0) - mu1 * wt <= TIGHT * terms {
                 if wt > TIGHT * terms {
-                    let e = [w[1] / wt, w[2] / wt];
-                    rows.push(along(&e));
-                    rows.push(Row::Node {
-                        node: i,
-                        v0: vec![0.0, -e[1], e[0]],
-                        v1: zero.clone(),
-                        rhs: 0.0,
-                    });
+                    // Only the row along e: with e the direction of w_t at the solution,
+                    // the least-norm solution of these rows is the least-norm certificate
+                    // (the same optimality conditions), and `realign` finds that e.
+                    rows.push(along(&[w[1] / wt, w[2] / wt]));
                 } else {
                     rows.push(Row::Node {
                         node: i,
@@ -162,9 +160,9 @@ impl Tight {
         (!rows.is_empty()).then_some(Tight { rows })
     }
 
-    /// In 3D, a slipping node's certificate keeps `w_t` along a direction `e` read at `mu_1`;
-    /// the right direction moves with `mu`. Turns each `e` to `w_t` of `y` (a solution near
-    /// the `mu` wanted), keeping the rest.
+    /// In 3D, a slipping node's row holds `w_n + mu (w_t . e) = -1` along a direction `e`
+    /// read at `mu_1`; the right `e` is the direction of `w_t` at the solution, and it moves
+    /// with `mu`. Turns each `e` to `w_t` of `y` (a solution near the `mu` wanted).
     fn realign(&mut self, form: &Formulation, y: &[f64]) {
         if form.dim != 3 {
             return;
@@ -186,11 +184,6 @@ impl Tight {
             if let Row::Node { v1, .. } = &mut self.rows[k] {
                 v1[1] = e[0];
                 v1[2] = e[1];
-            }
-            // The perpendicular row follows its slip row (Tight::read).
-            if let Some(Row::Node { v0, .. }) = self.rows.get_mut(k + 1) {
-                v0[1] = -e[1];
-                v0[2] = e[0];
             }
         }
     }
@@ -277,7 +270,7 @@ impl Tight {
     fn reactions(&self, form: &Formulation, mu: f64) -> Option<Vec<f64>> {
         let (d, m) = (form.dim, form.m);
         let (a, _) = self.system(form, mu);
-        if a.nrows() < m {
+        if a.nrows() > m {
             return None;
         }
         let svd = a.svd(true, false);
