@@ -84,9 +84,10 @@ wedged (a nontrivial equilibrium without load). It is reported as a bracket [low
 wedged configuration exists at upper (checked against the wedged problem; mu* = upper), and none
 exists below lower (certified by checked infeasibility certificates of the conic solver). The
 width actually certified normally reaches --tol; where it cannot (now and then in 3D), it stops
-at about 1e-7 relative (the solver's resolution), and the summary says so. \"never\" (certified: no friction coefficient wedges the
-body) is a result, exit code 0. The problem file's mu is not needed; --method enumerate starts
-its enumeration there (or at 1) and doubles it until something wedges.";
+at about 1e-7 relative (the solver's resolution), and the summary says so. \"never\"
+(certified: no friction coefficient wedges the body) is a result, exit code 0. The problem
+file's mu is not needed; --method enumerate starts its enumeration there (or at 1) and doubles
+it until something wedges.";
 
 /// Enumerate the wedged configurations of an elastic body in frictional contact with a rigid
 /// obstacle: every equilibrium without load in which the body stays deformed.

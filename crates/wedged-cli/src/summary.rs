@@ -169,62 +169,41 @@ impl Certified<'_> {
 /// The result of `--certify`: one line when every exact check passed, else a WARNING line per
 /// failed check.
 pub fn certification(c: &Certified) -> String {
-    let c = match c {
-        Certified::Rays(c) => c,
-        Certified::Patterns(c) => return pattern_certification(c),
-    };
     let mut out = String::new();
-    if c.certified {
-        let complete = match c.complete {
-            Some(true) => "; complete: equal to the exact enumeration".to_string(),
-            _ => format!(
-                "; completeness not checked (more than {} nodes, or an incomplete run; --exact \
-                 gives a complete answer)",
-                wedged::certify::COMPLETENESS_MAX_NODES
-            ),
-        };
-        wrapped(
-            &mut out,
-            0,
-            2,
-            &format!(
+    if !c.certified() {
+        for failure in c.failures() {
+            let _ = writeln!(out, "WARNING: exact certification failed: {failure}");
+        }
+        return out;
+    }
+    let line = match c {
+        Certified::Rays(c) => {
+            let complete = match c.complete {
+                Some(true) => "; complete: equal to the exact enumeration".to_string(),
+                _ => format!(
+                    "; completeness not checked (more than {} nodes, or an incomplete run; \
+                     --exact gives a complete answer)",
+                    wedged::certify::COMPLETENESS_MAX_NODES
+                ),
+            };
+            format!(
                 "certified in exact rational arithmetic: {}, {}{complete}",
                 plural(c.rays_checked, "ray", "rays"),
                 plural(c.cones_checked, "cone", "cones")
-            ),
-        );
-    } else {
-        for failure in &c.failures {
-            let _ = writeln!(out, "WARNING: exact certification failed: {failure}");
+            )
         }
-    }
-    out
-}
-
-/// The result of `--certify` for a pattern method.
-fn pattern_certification(c: &wedged::PatternCertificate) -> String {
-    let mut out = String::new();
-    if c.certified {
-        wrapped(
-            &mut out,
-            0,
-            2,
-            &format!(
-                "certified in exact rational arithmetic: {} recomputed exactly, {} behind \
-                 every decision of the search; complete: these are all the maximal patterns",
-                plural(c.witnesses_checked, "witness", "witnesses"),
-                plural(
-                    c.refutations_checked,
-                    "infeasibility certificate",
-                    "infeasibility certificates"
-                )
-            ),
-        );
-    } else {
-        for failure in &c.failures {
-            let _ = writeln!(out, "WARNING: exact certification failed: {failure}");
-        }
-    }
+        Certified::Patterns(c) => format!(
+            "certified in exact rational arithmetic: {} recomputed exactly, {} behind every \
+             decision of the search; complete: these are all the maximal patterns",
+            plural(c.witnesses_checked, "witness", "witnesses"),
+            plural(
+                c.refutations_checked,
+                "infeasibility certificate",
+                "infeasibility certificates"
+            )
+        ),
+    };
+    wrapped(&mut out, 0, 2, &line);
     out
 }
 

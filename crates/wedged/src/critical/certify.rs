@@ -453,6 +453,34 @@ fn repair(
     Some(kernel_point(exact, float, zf))
 }
 
+/// An exact state near the floating-point `u`: the unknowns `cols` a [`kernel_point`] of the
+/// linear conditions `exact` (rows over `cols`; `float` the same in floating point) with the
+/// free ones taken from `u`, the others zero, and `r = K u` (`k` the integer stiffness). Both
+/// are integers, times the same positive factor.
+pub(crate) fn exact_state(
+    k: &[Vec<BigInt>],
+    cols: &[usize],
+    exact: Vec<Vec<BigInt>>,
+    float: Vec<Vec<f64>>,
+    u: &[f64],
+) -> (Vec<BigInt>, Vec<BigInt>) {
+    let n = u.len();
+    let start: Vec<f64> = cols.iter().map(|&c| u[c]).collect();
+    let mut ux = vec![BigInt::zero(); n];
+    for (&c, x) in cols.iter().zip(kernel_point(exact, float, &start)) {
+        ux[c] = x;
+    }
+    let rx = (0..n)
+        .map(|a| {
+            (0..n)
+                .filter(|&b| !ux[b].is_zero() && !k[a][b].is_zero())
+                .map(|b| &k[a][b] * &ux[b])
+                .sum()
+        })
+        .collect();
+    (ux, rx)
+}
+
 /// A point of the null space of the integer matrix `a` (rows over `x.len()` unknowns) close to
 /// `x`: the pivot columns chosen by complete pivoting on `af` (`a` in floating point, scaled
 /// as it likes), the free unknowns given `x`'s own values (as integers over a common power of
@@ -589,20 +617,7 @@ fn check_witness(
         .iter()
         .map(|&a| cols.iter().map(|&c| k[a][c].clone()).collect())
         .collect();
-    let free: Vec<f64> = cols.iter().map(|&c| u[c]).collect();
-    let mut ux = vec![BigInt::zero(); n];
-    for (&c, x) in cols.iter().zip(kernel_point(a, float, &free)) {
-        ux[c] = x;
-    }
-    // r = K u (integers, up to one positive factor).
-    let rx: Vec<BigInt> = (0..n)
-        .map(|a| {
-            (0..n)
-                .filter(|&b| !ux[b].is_zero() && !k[a][b].is_zero())
-                .map(|b| &k[a][b] * &ux[b])
-                .sum()
-        })
-        .collect();
+    let (ux, rx) = exact_state(&k, &cols, a, float, u);
     let mut total = BigInt::zero();
     for i in 0..m {
         let (un, rn) = (&ux[d * i], &rx[d * i]);

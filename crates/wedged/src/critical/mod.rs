@@ -28,9 +28,9 @@
 //! descent stalls, `polish.rs` locates the threshold more closely from the tight constraints of
 //! the least-norm certificate (the friction coefficient where they become singular), makes the
 //! point there exact, and builds the certificate just below it: this reaches `tol` (1e-9 by
-//! default) where the tight set can be read. Otherwise the bracket is narrowed to `tol` or until the solver's
-//! feasibility resolution (about 1e-7 relative) stops it. The bracket reported is the one
-//! certified.
+//! default) where the tight set can be read. Otherwise the bracket is narrowed to `tol` or
+//! until the solver's feasibility resolution (about 1e-7 relative) stops it. The bracket
+//! reported is the one certified.
 //!
 //! Three methods ([`CriticalMethod`]):
 //! - `bnb` (`bnb.rs`): branch and bound over contact sets with an incumbent; a subtree is
@@ -56,7 +56,9 @@ use std::time::Instant;
 use nalgebra::DMatrix;
 
 use crate::enumerate::{ContactPattern, Control, EnumerateError, Limits, NodeStatus, Stop};
-use crate::patterns::program::{Class, Counters, Decision, Formulation, Goal, Norm, Refutation};
+use crate::patterns::program::{
+    solve_again, Class, Counters, Decision, Formulation, Goal, Norm, Refutation,
+};
 use crate::patterns::Undecided;
 use crate::problem::Problem;
 
@@ -337,11 +339,7 @@ pub fn critical_with_control(
         info.tol_achieved = (u - l) / u;
     }
     let certificate = settings.certify.then(|| {
-        let refutations = form
-            .refutations
-            .take()
-            .map(|log| log.into_inner().unwrap_or_default())
-            .unwrap_or_default();
+        let refutations = form.take_refutations();
         let closed: Option<Vec<bool>> = witness.as_ref().map(|w| {
             w.pattern
                 .iter()
@@ -353,15 +351,7 @@ pub fn critical_with_control(
              patterns, which is not certified (use --method bnb or faces)"
                 .to_string()
         });
-        let again = |f: &Refutation, mu: f64, sum: bool| -> Option<Refutation> {
-            let mut form = Formulation::new(problem);
-            form.refutations = Some(std::sync::Mutex::new(Vec::new()));
-            let norm = if sum { Norm::Sum } else { f.cut.norm() };
-            match form.decide_at(&f.classes, mu, norm, Goal::Feasible) {
-                Decision::No => form.refutations.take()?.into_inner().ok()?.pop(),
-                _ => None,
-            }
-        };
+        let again = |f: &Refutation, mu: f64, sum: bool| solve_again(problem, f, mu, sum);
         certify::certify(
             problem,
             &refutations,
@@ -657,9 +647,7 @@ impl Ctx<'_, '_> {
                 }
                 let at = hi * (1.0 - 0.5 * self.tol);
                 if let Some(f) = polish::refute_below(self.form, contact, hi, at) {
-                    if let Some(log) = &self.form.refutations {
-                        log.lock().expect("no panics while held").push(f);
-                    }
+                    self.form.keep(f);
                     lo = certified(at);
                     continue;
                 }

@@ -28,7 +28,8 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::patterns::program::{Class, Cut, Formulation, Refutation};
+use super::leaf_classes;
+use crate::patterns::program::{Cut, Formulation, Refutation};
 
 /// Where the tight constraints are read, as shares of `theta` below it.
 const STEPS: [f64; 3] = [1e-4, 1e-3, 1e-5];
@@ -70,7 +71,9 @@ pub(crate) fn sharpen(form: &Formulation, contact: &[bool], theta: f64) -> Optio
     let mut b = theta;
     // In 3D the slip directions are realigned near the pole found, and it is found again.
     for _ in 0..if form.dim == 3 { 3 } else { 1 } {
-        tight.solve_aligned(form, at)?;
+        if form.dim == 3 {
+            tight.solve_aligned(form, at)?;
+        }
         b = tight.pole(form, theta)?;
         at = b * (1.0 - 1e-9);
     }
@@ -167,23 +170,18 @@ impl Tight {
         if form.dim != 3 {
             return;
         }
-        for k in 0..self.rows.len() {
-            let (node, tangential) = match &self.rows[k] {
-                Row::Node { node, v1, .. } => (*node, v1[1] != 0.0 || v1[2] != 0.0),
-                Row::Zero(_) => continue,
+        for row in &mut self.rows {
+            let Row::Node { node, v1, .. } = row else {
+                continue;
             };
-            if !tangential {
+            if v1[1] == 0.0 && v1[2] == 0.0 {
                 continue;
             }
-            let (w, _) = w_of(form, y, node);
+            let (w, _) = w_of(form, y, *node);
             let wt = (w[1] * w[1] + w[2] * w[2]).sqrt();
-            if !(wt > 0.0 && wt.is_finite()) {
-                continue;
-            }
-            let e = [w[1] / wt, w[2] / wt];
-            if let Row::Node { v1, .. } = &mut self.rows[k] {
-                v1[1] = e[0];
-                v1[2] = e[1];
+            if wt > 0.0 && wt.is_finite() {
+                v1[1] = w[1] / wt;
+                v1[2] = w[2] / wt;
             }
         }
     }
@@ -310,8 +308,8 @@ fn w_of(form: &Formulation, y: &[f64], i: usize) -> (Vec<f64>, Vec<f64>) {
     (w, size)
 }
 
-/// The refutation of `y` (scaled multipliers) at `mu`, if every `c_i` is negative with a
-/// margin far above round-off and no multiplier off the contact set is negative.
+/// The refutation of `y` (scaled multipliers) at `mu`, a negative multiplier off the contact
+/// set taken as zero, if then every `c_i` is negative with a margin far above round-off.
 fn check(form: &Formulation, contact: &[bool], y: &[f64], mu: f64) -> Option<Refutation> {
     let m = form.m;
     let y: Vec<f64> = (0..m)
@@ -327,10 +325,7 @@ fn check(form: &Formulation, contact: &[bool], y: &[f64], mu: f64) -> Option<Ref
         }
     }
     Some(Refutation {
-        classes: contact
-            .iter()
-            .map(|&c| if c { Class::Contact } else { Class::Separated })
-            .collect(),
+        classes: leaf_classes(contact),
         mu,
         cut: Cut::Sum,
         z: (0..m).map(|k| y[k] / form.scale_of(k)).collect(),

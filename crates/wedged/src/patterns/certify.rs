@@ -34,9 +34,9 @@ use num_bigint::BigInt;
 use num_traits::{Signed, ToPrimitive, Zero};
 use rayon::prelude::*;
 
-use super::program::{Formulation, Refutation};
-use super::{Pattern, PatternMethod};
-use crate::critical::certify::{integer_stiffness, kernel_point, rat};
+use super::program::{describe, solve_again, Formulation, Refutation};
+use super::{classes_of, Pattern, PatternMethod};
+use crate::critical::certify::{exact_state, integer_stiffness, rat};
 use crate::enumerate::{ContactPattern, NodeStatus};
 use crate::problem::Problem;
 
@@ -92,25 +92,9 @@ pub(crate) fn certify(
         ));
         failures.extend(doubts.iter().take(LISTED).cloned());
     }
-    let refutations = form
-        .refutations
-        .take()
-        .map(|log| log.into_inner().unwrap_or_default())
-        .unwrap_or_default();
+    let refutations = form.take_refutations();
     // A failing certificate is solved once more (with its own cut, then as a trivial cone).
-    let again = |f: &Refutation, mu: f64, sum: bool| -> Option<Refutation> {
-        let mut form = Formulation::new(problem);
-        form.refutations = Some(std::sync::Mutex::new(Vec::new()));
-        let norm = if sum {
-            super::program::Norm::Sum
-        } else {
-            f.cut.norm()
-        };
-        match form.decide_at(&f.classes, mu, norm, super::program::Goal::Feasible) {
-            super::program::Decision::No => form.refutations.take()?.into_inner().ok()?.pop(),
-            _ => None,
-        }
-    };
+    let again = |f: &Refutation, mu: f64, sum: bool| solve_again(problem, f, mu, sum);
     let checked = crate::critical::certify::certify(
         problem,
         &refutations,
@@ -126,15 +110,7 @@ pub(crate) fn certify(
         .enumerate()
         .filter_map(|(n, p)| {
             check_witness(problem, &k, p).err().map(|e| {
-                let q: String = p
-                    .pattern
-                    .iter()
-                    .map(|c| match c {
-                        ContactPattern::Contact => 'C',
-                        ContactPattern::Separated => 'S',
-                        ContactPattern::Grazing => 'G',
-                    })
-                    .collect();
+                let q = describe(&classes_of(&p.pattern));
                 format!("pattern {} [{q}]: {e}", n + 1)
             })
         })
@@ -279,20 +255,7 @@ fn check_witness(problem: &Problem, k: &[Vec<BigInt>], p: &Pattern) -> Result<()
         exact.push(e);
         float.push(x);
     }
-    let start: Vec<f64> = cols.iter().map(|&c| p.u[c]).collect();
-    let mut u = vec![BigInt::zero(); n];
-    for (&c, x) in cols.iter().zip(kernel_point(exact, float, &start)) {
-        u[c] = x;
-    }
-    // r = K u (integers, up to one positive factor).
-    let r: Vec<BigInt> = (0..n)
-        .map(|a| {
-            (0..n)
-                .filter(|&b| !u[b].is_zero() && !k[a][b].is_zero())
-                .map(|b| &k[a][b] * &u[b])
-                .sum()
-        })
-        .collect();
+    let (u, r) = exact_state(k, &cols, exact, float, &p.u);
     for i in 0..m {
         let node = i + 1;
         let (un, rn) = (&u[d * i], &r[d * i]);

@@ -174,6 +174,24 @@ pub(crate) struct Refutation {
     pub z: Vec<f64>,
 }
 
+/// The refutation `f`'s program solved anew at `mu`, with its own normalisation or, when `sum`,
+/// with `sum r_n = 1`: its new refutation, or `None` when it is not infeasible there. (What
+/// `critical::certify::certify` does with a certificate that fails its exact check.)
+pub(crate) fn solve_again(
+    problem: &Problem,
+    f: &Refutation,
+    mu: f64,
+    sum: bool,
+) -> Option<Refutation> {
+    let mut form = Formulation::new(problem);
+    form.refutations = Some(Mutex::new(Vec::new()));
+    let norm = if sum { Norm::Sum } else { f.cut.norm() };
+    match form.decide_at(&f.classes, mu, norm, Goal::Feasible) {
+        Decision::No => form.take_refutations().pop(),
+        _ => None,
+    }
+}
+
 /// The data every program of a run shares.
 pub(crate) struct Formulation<'a> {
     pub problem: &'a Problem,
@@ -238,6 +256,21 @@ impl<'a> Formulation<'a> {
             (Decision::Yes { .. }, _) => Err("a solution exists after all".into()),
             (Decision::Unsure(why), _) => Err(format!("the solver could not decide ({why})")),
         }
+    }
+
+    /// Keeps a refutation for the exact check at the end, when refutations are kept.
+    pub(crate) fn keep(&self, f: Refutation) {
+        if let Some(log) = &self.refutations {
+            log.lock().expect("no panics while held").push(f);
+        }
+    }
+
+    /// The refutations kept so far, taken out (none when they are not kept).
+    pub(crate) fn take_refutations(&mut self) -> Vec<Refutation> {
+        self.refutations
+            .take()
+            .map(|log| log.into_inner().unwrap_or_default())
+            .unwrap_or_default()
     }
 
     /// Records a decision the search relied on without a certificate.
@@ -352,8 +385,8 @@ impl<'a> Formulation<'a> {
     /// `norm`. A returned `r` is rescaled to `sum r_n = 1`.
     pub(crate) fn decide_at(&self, classes: &[Class], mu: f64, norm: Norm, goal: Goal) -> Decision {
         let (decision, refutation) = self.decide_kept(classes, mu, norm, goal);
-        if let (Some(log), Some(f), Goal::Feasible) = (&self.refutations, refutation, goal) {
-            log.lock().expect("no panics while held").push(f);
+        if let (Some(f), Goal::Feasible) = (refutation, goal) {
+            self.keep(f);
         }
         decision
     }
@@ -382,11 +415,7 @@ impl<'a> Formulation<'a> {
                     .map_err(|e| format!("its certificate fails exactly: {e}"))?;
                 self.settled.fetch_add(1, Ordering::Relaxed);
             }
-            None => {
-                if let Some(log) = &self.refutations {
-                    log.lock().expect("no panics while held").push(f);
-                }
-            }
+            None => self.keep(f),
         }
         Ok(())
     }
