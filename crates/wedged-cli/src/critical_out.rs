@@ -120,6 +120,7 @@ pub struct CriticalInfoJson {
     pub nodes_visited: u64,
     pub pruned_infeasible: u64,
     pub leaves_solved: u64,
+    pub bound_tightenings: u64,
     pub dinkelbach_steps: u64,
     pub bisection_steps: u64,
     pub certificates: u64,
@@ -143,6 +144,7 @@ impl CriticalInfoJson {
             nodes_visited,
             pruned_infeasible,
             leaves_solved,
+            bound_tightenings,
             dinkelbach_steps,
             bisection_steps,
             certificates,
@@ -160,6 +162,7 @@ impl CriticalInfoJson {
             nodes_visited,
             pruned_infeasible,
             leaves_solved,
+            bound_tightenings,
             dinkelbach_steps,
             bisection_steps,
             certificates,
@@ -615,6 +618,13 @@ fn info_lines(out: &mut String, problem: &Problem, result: &Critical) {
             plural(info.nodes_visited as usize, "node", "nodes"),
             plural(info.pruned_infeasible as usize, "subtree", "subtrees")
         ));
+        if info.bound_tightenings > 0 {
+            search.push(format!(
+                "drive cuts from bounds tightened at {} (checked in floating point; \
+                 --certify proves every prune exactly without them)",
+                plural(info.bound_tightenings as usize, "node", "nodes")
+            ));
+        }
     } else if info.method == "faces" {
         search.push(format!(
             "all 2^{m} contact sets, {} certified infeasible",

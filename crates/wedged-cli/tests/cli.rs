@@ -1022,6 +1022,7 @@ fn check_critical_keys(report: &Value) {
         "nodes_visited",
         "pruned_infeasible",
         "leaves_solved",
+        "bound_tightenings",
         "dinkelbach_steps",
         "bisection_steps",
         "certificates",
@@ -1037,7 +1038,7 @@ fn check_critical_keys(report: &Value) {
     ] {
         assert!(info.contains_key(key), "missing info.{key}: {info:?}");
     }
-    assert_eq!(info.len(), 16, "{info:?}");
+    assert_eq!(info.len(), 17, "{info:?}");
 }
 
 /// One node with `K_nn = 2, K_nt = 1, K_tt = 1`: `mu* = K_tt / |K_nt| = 1`.

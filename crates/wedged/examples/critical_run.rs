@@ -7,10 +7,14 @@
 //! cargo run --release -p wedged --example critical_run -- random DIM M SEED [METHOD] [TOL]
 //! ```
 //!
-//! It prints the bracket, the witness's statuses and the search statistics; with the
-//! environment variable `CERTIFY` set, also the exact certification.
+//! It prints the bracket, the witness's statuses and the search statistics, and each new
+//! incumbent on stderr as it comes; with the environment variable `CERTIFY` set, also the exact
+//! certification. The plugs' `mu` (the first bar of `bnb`) is 2, or the environment variable
+//! `MU`.
 
-use wedged::{critical, CriticalMethod, CriticalSettings, Problem};
+use std::sync::atomic::AtomicBool;
+
+use wedged::{critical_with_control, CriticalMethod, CriticalProgress, CriticalSettings, Problem};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -25,20 +29,18 @@ fn main() {
             .and_then(|a| a.parse().ok())
             .unwrap_or_else(|| usage())
     };
+    let mu: f64 = std::env::var("MU")
+        .ok()
+        .and_then(|m| m.parse().ok())
+        .unwrap_or(2.0);
     let (problem, rest) = match args.first().map(String::as_str) {
         Some("plug2d") => {
             let model = wedged::examples::plug2d(n(1), n(2)).expect("the plug builds");
-            (
-                Problem::new(2, model.k().clone(), 2.0).expect("definite"),
-                3,
-            )
+            (Problem::new(2, model.k().clone(), mu).expect("definite"), 3)
         }
         Some("plug3d") => {
             let model = wedged::examples::plug3d(n(1), n(2)).expect("the plug builds");
-            (
-                Problem::new(3, model.k().clone(), 2.0).expect("definite"),
-                3,
-            )
+            (Problem::new(3, model.k().clone(), mu).expect("definite"), 3)
         }
         Some("random") => (
             wedged::examples::random_spd_problem_dim(n(1), n(2), 2.0, n(3) as u64),
@@ -62,7 +64,21 @@ fn main() {
         certify: std::env::var_os("CERTIFY").is_some(),
         ..CriticalSettings::default()
     };
-    let c = critical(&problem, &settings).expect("valid settings");
+    // Each new incumbent (upper end) on stderr, with the time and the share of the tree explored.
+    let start = std::time::Instant::now();
+    let last = std::cell::Cell::new(f64::INFINITY);
+    let progress = |p: CriticalProgress| {
+        if let Some(upper) = p.upper.filter(|&u| u < last.get()) {
+            last.set(upper);
+            eprintln!(
+                "{:8.2} s  upper {upper:.10}  explored {:.4}",
+                start.elapsed().as_secs_f64(),
+                p.explored
+            );
+        }
+    };
+    let c = critical_with_control(&problem, &settings, &progress, &AtomicBool::new(false))
+        .expect("valid settings");
     println!(
         "m = {}, dim = {}, method {}: {} mu* = {:?} in [{:?}, {:?}]",
         problem.nodes(),

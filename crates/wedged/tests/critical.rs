@@ -585,6 +585,39 @@ fn the_three_methods_agree_on_random_problems() {
     assert!(wedged >= cases.len() / 2, "{wedged} wedged");
 }
 
+/// The default `bnb` (not certified: it prunes with the drive cuts of `critical/cuts.rs`)
+/// against the certified runs of every random case, which prune without them: the same status,
+/// the same `mu*`, brackets that overlap, and a witness checked here.
+#[test]
+fn bnb_with_drive_cuts_agrees_with_certified_runs() {
+    let mut tightenings = 0;
+    for case in cases() {
+        let what = format!("{}, bnb with cuts", case.name());
+        let c = critical(&case.problem, &CriticalSettings::default()).unwrap();
+        tightenings += c.info.bound_tightenings;
+        let certified = &case.results[0].1;
+        assert_eq!(c.status, certified.status, "{what}");
+        if c.status != CriticalStatus::Wedged {
+            continue;
+        }
+        check_witness(&case.problem, &c, &what);
+        let (lower, upper) = (c.lower.unwrap(), c.upper.unwrap());
+        for (method, other) in &case.results {
+            let (lo, up) = (other.lower.unwrap(), other.upper.unwrap());
+            let tol = AGREE.max(c.info.tol_achieved).max(other.info.tol_achieved);
+            assert!(
+                lower <= up * (1.0 + 1e-9) && lo <= upper * (1.0 + 1e-9),
+                "{what}: [{lower}, {upper}] against {method}'s [{lo}, {up}]"
+            );
+            assert!(
+                (upper - up).abs() <= tol * upper.min(up),
+                "{what}: upper {upper} against {method}'s {up}"
+            );
+        }
+    }
+    assert!(tightenings > 50, "{tightenings} bound tightenings");
+}
+
 fn brackets(case: &Case) -> Vec<(CriticalMethod, f64, f64)> {
     case.results
         .iter()

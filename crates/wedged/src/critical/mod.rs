@@ -45,6 +45,7 @@
 
 mod bnb;
 pub mod certify;
+mod cuts;
 mod enumerate;
 mod faces;
 mod polish;
@@ -194,6 +195,9 @@ pub struct CriticalInfo {
     /// Contact sets whose threshold was computed (bnb: leaves reached, each tested and, when
     /// feasible, its threshold computed).
     pub leaves_solved: u64,
+    /// Search nodes that tightened the bounds behind their drive cuts (bnb without
+    /// `certify`; see `critical/cuts.rs`), two programs per undecided node each.
+    pub bound_tightenings: u64,
     /// Dinkelbach steps (programs minimising the slack).
     pub dinkelbach_steps: u64,
     /// Bisection steps (faces).

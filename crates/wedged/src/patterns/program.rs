@@ -86,6 +86,11 @@ pub(crate) enum Goal<'a> {
     /// friction coefficient of a cone (Crouzeix, Ferland and Schaible's second method, `w` the
     /// pressures of the previous iterate). Needs [`Norm::Sum`] and a finite `mu`.
     MinSlack(&'a [f64]),
+    /// Minimise a linear function of the reactions: one coefficient per reaction component
+    /// (all `dim*m`; those of nodes without a reaction are ignored). The caller keeps it
+    /// bounded ([`Norm::Sum`] and a finite `mu` bound every reaction; a function that is
+    /// nonnegative on the program is bounded below by zero).
+    Minimise(&'a [f64]),
 }
 
 /// How the cone of solutions is cut to make a program of it.
@@ -429,6 +434,20 @@ impl<'a> Formulation<'a> {
         norm: Norm,
         goal: Goal,
     ) -> (Decision, Option<Refutation>) {
+        self.decide_cut(classes, mu, norm, goal, &[])
+    }
+
+    /// [`Formulation::decide_kept`] with extra valid inequalities `cut . r >= 0` (each a row
+    /// over all `dim*m` reaction components; those of nodes without a reaction are ignored).
+    /// A refutation only covers the gap rows, so a program with cuts keeps none.
+    pub(crate) fn decide_cut(
+        &self,
+        classes: &[Class],
+        mu: f64,
+        norm: Norm,
+        goal: Goal,
+        cuts: &[Vec<f64>],
+    ) -> (Decision, Option<Refutation>) {
         let (d, m) = (self.dim, self.m);
         // Variable offsets of the nodes with a reaction.
         let mut offset = vec![usize::MAX; m];
@@ -445,7 +464,7 @@ impl<'a> Formulation<'a> {
             );
         }
         let (entries, weights): (&[Entry], Option<&[f64]>) = match goal {
-            Goal::Feasible => (&[], None),
+            Goal::Feasible | Goal::Minimise(_) => (&[], None),
             Goal::MaxMin(e) => (e, None),
             Goal::MinSlack(w) => (&[], Some(w)),
         };
@@ -541,6 +560,20 @@ impl<'a> Formulation<'a> {
                 debug_assert!(matches!(classes[j], Class::Separated | Class::Free));
             }
         }
+        let on_reactions = |row: &[f64]| -> Vec<(usize, f64)> {
+            (0..m)
+                .filter(|&j| classes[j].has_r())
+                .flat_map(|j| (0..d).map(move |c| (j, c)))
+                .map(|(j, c)| (offset[j] + c, row[d * j + c]))
+                .filter(|&(_, x)| x != 0.0)
+                .collect()
+        };
+        for cut in cuts {
+            p.nonneg(Affine::new(on_reactions(cut), 0.0));
+        }
+        if let Goal::Minimise(objective) = goal {
+            p.minimise(&on_reactions(objective));
+        }
         if let Some(t) = t {
             if weights.is_some() {
                 // Minimise s. It is bounded below: some node with w_i > 0 has
@@ -587,7 +620,12 @@ impl<'a> Formulation<'a> {
                 } else {
                     Vec::new()
                 };
-                return (Decision::No, self.refuted(classes, mu, norm, goal, z));
+                let kept = if cuts.is_empty() {
+                    self.refuted(classes, mu, norm, goal, z)
+                } else {
+                    None
+                };
+                return (Decision::No, kept);
             }
             Answer::Uncertain { reason } => {
                 Counters::add(&self.counters.uncertain, 1);

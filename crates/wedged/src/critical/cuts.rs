@@ -1,0 +1,215 @@
+//! Cuts for `bnb` from bounds on the drive of the undecided nodes.
+//!
+//! The relaxation of a search node lets an undecided node press with its gap open, and on a
+//! long wall many nodes can each do so: the bound then bites only deep in the tree. These
+//! cuts make each undecided node pay for it.
+//!
+//! Node `j`'s **drive** is the gap that the other reactions open at it:
+//! `w_j = u_n_j - c_j r_n_j`, with `c_j = C_{n_j n_j} > 0` its own normal compliance (in the
+//! scaled gap units of [`crate::patterns::program`]). In every solution either `r_n_j = 0`
+//! (then `u_n_j = w_j >= 0`) or `u_n_j = 0` (then `c_j r_n_j = -w_j`), so
+//!
+//! ```text
+//! c_j r_n_j = max(0, -w_j).
+//! ```
+//!
+//! The right-hand side is convex in `w_j`, so on an interval `[L s, U s]` that holds `w_j`
+//! (`s = sum r_n`) it lies below its secant. With `L < 0 < U` that is the homogeneous cut
+//!
+//! ```text
+//! c_j (U - L) r_n_j <= -L (U s - w_j),
+//! ```
+//!
+//! which forbids pressing hard with a large drive. With `L >= 0` the node cannot press
+//! (`r_n_j <= 0`); with `U <= 0` its gap cannot open (`u_n_j <= 0`). The relaxation keeps
+//! `u_n_j >= 0` and `r_n_j >= 0`, the convex lower side.
+//!
+//! `L` and `U` come from **bound tightening**: the least and the greatest drive over the
+//! relaxation of the search node (normalised by `s = 1`, the cuts known so far included), two
+//! linear programs per undecided node ([`tighten`]), each value widened by [`MARGIN`]. Every
+//! solution of a subtree at a friction coefficient up to the node's lies in that relaxation,
+//! so the bounds, and the cuts, hold for the whole subtree at every lower level.
+//!
+//! The cuts are checked in floating point only (the solver's optima behind them are), so a
+//! certified run (`--certify`) does not use them: its every prune is a plain refutation that
+//! is checked exactly (see [`super::certify`]).
+
+use rayon::prelude::*;
+
+use crate::patterns::program::{Class, Decision, Formulation, Goal, Norm};
+
+/// Bounds `(L, U)` on each node's drive per unit of total pressure (infinite when unknown).
+pub(crate) type Drive = Vec<(f64, f64)>;
+
+/// Each bound from the solver is widened by this much, relative to `1 + sum_k |w_k r_k|` (the
+/// terms of the drive at the optimum: drives are of order one in the scaled units, and the
+/// optimality check of [`crate::socp`] bounds the error of an optimal value by `1e-7` of its
+/// terms plus `1e-8` normwise).
+const MARGIN: f64 = 1e-5;
+
+/// Node `j`'s drive as a row over the reactions: its scaled gap row without its own normal
+/// entry.
+fn drive_row(form: &Formulation, j: usize) -> Vec<f64> {
+    let mut w = form.gap_row(j).to_vec();
+    w[form.dim * j] = 0.0;
+    w
+}
+
+/// The cuts (rows `a` of `a . r >= 0` over all reaction components) that the bounds `drive`
+/// give the free nodes of `classes`.
+pub(crate) fn rows(form: &Formulation, classes: &[Class], drive: &[(f64, f64)]) -> Vec<Vec<f64>> {
+    let d = form.dim;
+    let mut rows = Vec::new();
+    for (j, &(lo, hi)) in drive.iter().enumerate() {
+        if classes[j] != Class::Free || !lo.is_finite() || !hi.is_finite() || lo > hi {
+            continue;
+        }
+        let mut row = vec![0.0; d * form.m];
+        if lo >= 0.0 {
+            // -r_n_j >= 0.
+            row[d * j] = -1.0;
+        } else if hi <= 0.0 {
+            // -u_n_j >= 0.
+            row.iter_mut()
+                .zip(form.gap_row(j))
+                .for_each(|(a, g)| *a = -g);
+        } else {
+            // -L U s + L w_j - c_j (U - L) r_n_j >= 0.
+            let c = form.gap_row(j)[d * j];
+            for (a, w) in row.iter_mut().zip(drive_row(form, j)) {
+                *a = lo * w;
+            }
+            for k in 0..form.m {
+                row[d * k] -= lo * hi;
+            }
+            row[d * j] -= c * (hi - lo);
+        }
+        rows.push(row);
+    }
+    rows
+}
+
+/// Bound tightening at a search node: for every free node of `classes`, the least and the
+/// greatest drive over its relaxation at `mu` (finite) with `sum r_n = 1` and the cuts of
+/// `drive`, intersected with `drive`. `None` when the relaxation is infeasible (certified by
+/// the solver: the subtree has no solution at `mu` or below). A bound the solver cannot
+/// decide stays as it was.
+pub(crate) fn tighten(
+    form: &Formulation,
+    classes: &[Class],
+    mu: f64,
+    drive: Option<&Drive>,
+) -> Option<Drive> {
+    debug_assert!(mu.is_finite());
+    let m = form.m;
+    let mut out = drive
+        .cloned()
+        .unwrap_or_else(|| vec![(f64::NEG_INFINITY, f64::INFINITY); m]);
+    let cuts = rows(form, classes, &out);
+    let free: Vec<usize> = (0..m).filter(|&j| classes[j] == Class::Free).collect();
+    // Each free node's two programs (`None` when one is infeasible): the node and its new
+    // bounds, each `None` when the solver was unsure.
+    type NewBounds = (usize, Option<f64>, Option<f64>);
+    let found: Option<Vec<NewBounds>> = free
+        .par_iter()
+        .map(|&j| {
+            let w = drive_row(form, j);
+            let extreme = |sign: f64| -> Option<Option<f64>> {
+                let objective: Vec<f64> = w.iter().map(|x| sign * x).collect();
+                let (decision, _) =
+                    form.decide_cut(classes, mu, Norm::Sum, Goal::Minimise(&objective), &cuts);
+                match decision {
+                    Decision::No => None,
+                    Decision::Unsure(_) => Some(None),
+                    Decision::Yes { r, .. } => {
+                        let v: f64 = w.iter().zip(&r).map(|(a, b)| a * b).sum();
+                        let terms: f64 = w.iter().zip(&r).map(|(a, b)| (a * b).abs()).sum();
+                        Some(Some(v - sign * MARGIN * (1.0 + terms)))
+                    }
+                }
+            };
+            Some((j, extreme(1.0)?, extreme(-1.0)?))
+        })
+        .collect();
+    for (j, lo, hi) in found? {
+        let (old_lo, old_hi) = out[j];
+        out[j] = (
+            lo.map_or(old_lo, |x| x.max(old_lo)),
+            hi.map_or(old_hi, |x| x.min(old_hi)),
+        );
+    }
+    Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::enumerate::{enumerate, Settings};
+    use crate::examples::random_spd_problem;
+
+    /// Every extreme ray of the solution set of a random 2D problem (enumerated independently,
+    /// by double description) satisfies the cuts of the root and of random subtrees it belongs
+    /// to; a cut is linear, so every solution, a combination of rays of one cone, does too.
+    /// Some cuts hold a ray tightly: a cut any stronger would cut off a solution.
+    #[test]
+    fn cuts_keep_every_solution() {
+        let (mut checked, mut tight, mut rows_seen) = (0, 0, 0);
+        for seed in 0..40u64 {
+            let m = 2 + (seed % 5) as usize;
+            let problem = random_spd_problem(m, 2.5, 7000 + seed);
+            let rays = enumerate(&problem, &Settings::default()).unwrap().rays;
+            let form = Formulation::new(&problem);
+            let mut lcg = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+            for round in 0..4 {
+                // Round 0 is the root; the others fix some nodes at random.
+                let classes: Vec<Class> = (0..m)
+                    .map(|_| {
+                        lcg = lcg
+                            .wrapping_mul(6364136223846793005)
+                            .wrapping_add(1442695040888963407);
+                        match (round, lcg >> 61) {
+                            (0, _) | (_, 0..=3) => Class::Free,
+                            (_, 4 | 5) => Class::Contact,
+                            _ => Class::Separated,
+                        }
+                    })
+                    .collect();
+                let first = tighten(&form, &classes, problem.mu(), None);
+                let again = first.and_then(|d| tighten(&form, &classes, problem.mu(), Some(&d)));
+                let Some(drive) = again else {
+                    // Certified infeasible: then no ray may belong to the subtree.
+                    assert!(
+                        !rays.iter().any(|ray| belongs(&form, &classes, &ray.r)),
+                        "seed {seed}: a subtree with a solution was found infeasible"
+                    );
+                    continue;
+                };
+                let rows = rows(&form, &classes, &drive);
+                rows_seen += rows.len();
+                for ray in rays.iter().filter(|ray| belongs(&form, &classes, &ray.r)) {
+                    for row in &rows {
+                        let v: f64 = row.iter().zip(&ray.r).map(|(a, b)| a * b).sum();
+                        let scale: f64 = row.iter().zip(&ray.r).map(|(a, b)| (a * b).abs()).sum();
+                        assert!(v >= -1e-9 * scale, "seed {seed}: a cut {v:e} at a ray");
+                        tight += usize::from(v <= 1e-4 * scale);
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(
+            rows_seen > 100 && checked > 100 && tight > 10,
+            "{rows_seen} {checked} {tight}"
+        );
+    }
+
+    /// Whether the solution `r` lies in the subtree of `classes`: `r = 0` on its separated
+    /// nodes, closed gaps on its contact nodes.
+    fn belongs(form: &Formulation, classes: &[Class], r: &[f64]) -> bool {
+        (0..form.m).all(|i| match classes[i] {
+            Class::Separated => r[2 * i] == 0.0 && r[2 * i + 1] == 0.0,
+            Class::Contact => form.gap_of(r, i).abs() <= 1e-9,
+            _ => true,
+        })
+    }
+}
