@@ -367,6 +367,9 @@ pub fn render(
         (wedged::CriticalMethod::Enumerate, _, None) => {
             ", enumeration from mu = 1 (the file gives no mu)".to_string()
         }
+        (wedged::CriticalMethod::Bnb, _, Some(mu)) => {
+            format!(" (the file's mu = {mu} is only the search's first bar)")
+        }
         (_, _, Some(_)) => " (the file's mu is not used)".to_string(),
         _ => String::new(),
     };

@@ -26,10 +26,9 @@
 //! 3D the cuts are left out: on the 3D plug (m = 20) they changed the branching for the worse,
 //! 39k nodes and 15 s with cuts at the root, 23k and 10.6 s down to depth 4, against 12k and
 //! 3.7 s without. A certified run leaves them out too, since its refutations must be checked
-//! exactly. With cuts the search starts with a dive at `mu = infinity` that stops at its first
-//! incumbent, then makes one pass at the incumbent's level, instead of the bars of [`bars`].
+//! exactly.
 
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use super::cuts::{self, Drive};
@@ -77,8 +76,6 @@ struct Search<'a, 'b, 'c> {
     /// Whether the search uses drive cuts (not in a certified run).
     cut: bool,
     tightened: AtomicU64,
-    /// While set, the search stops at its first incumbent (see [`run`]).
-    dive: AtomicBool,
 }
 
 impl Search<'_, '_, '_> {
@@ -129,9 +126,7 @@ impl Search<'_, '_, '_> {
     }
 
     fn explore(&self, classes: Vec<Class>, depth: usize, drive: Option<Arc<Bounds>>) {
-        if self.control.must_stop(0)
-            || (self.dive.load(Ordering::Relaxed) && self.incumbent().is_finite())
-        {
+        if self.control.must_stop(0) {
             return;
         }
         let m = self.form().m;
@@ -317,7 +312,6 @@ pub(super) fn run(
         explored: AtomicU64::new(0),
         cut: ctx.form.refutations.is_none() && ctx.form.dim == 2,
         tightened: AtomicU64::new(0),
-        dive: AtomicBool::new(false),
     };
     let report = |search: &Search| {
         let best = search.incumbent();
@@ -328,25 +322,7 @@ pub(super) fn run(
     };
     crate::patterns::with_progress(
         || {
-            let passes: Vec<f64> = if search.cut {
-                // With drive cuts, a pass that proves nothing below its bar costs nearly a
-                // whole proof (the 2D plug with m = 60 has mu* = 1.8047, just above its file's
-                // 1.8), and cuts need a finite level. So a dive at mu = infinity first, which
-                // stops at its first incumbent, then one pass at the incumbent's level; a dive
-                // that ends with no incumbent was a whole pass at mu = infinity.
-                search.dive.store(true, Ordering::Relaxed);
-                search.explore(vec![Class::Free; ctx.form.m], 0, None);
-                search.dive.store(false, Ordering::Relaxed);
-                let found = search.best.lock().map_or(true, |b| b.is_some());
-                if found {
-                    vec![f64::INFINITY]
-                } else {
-                    Vec::new()
-                }
-            } else {
-                bars(ctx.form.mu).to_vec()
-            };
-            for bar in passes {
+            for bar in bars(ctx.form.mu) {
                 search.bar.store(bar.to_bits(), Ordering::Relaxed);
                 search.explored.store(0, Ordering::Relaxed);
                 search.explore(vec![Class::Free; ctx.form.m], 0, None);
