@@ -163,6 +163,7 @@ impl Search<'_, '_, '_> {
                     }))
                 }
                 None => {
+                    self.ctx.tally.certificates.fetch_add(1, Ordering::Relaxed);
                     self.pruned.fetch_add(1, Ordering::Relaxed);
                     self.close(depth);
                     return;

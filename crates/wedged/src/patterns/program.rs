@@ -471,13 +471,17 @@ impl<'a> Formulation<'a> {
         debug_assert!(weights.is_none() || (mu.is_finite() && matches!(norm, Norm::Sum)));
         let t = (!entries.is_empty() || weights.is_some()).then_some(vars);
         let mut p = Program::new(vars + t.is_some() as usize);
-        let gap = |i: usize, minus_t: bool, constant: f64| {
-            let mut terms: Vec<(usize, f64)> = (0..m)
+        // A row over all `dim*m` reaction components as terms in the program's variables.
+        let on_reactions = |row: &[f64]| -> Vec<(usize, f64)> {
+            (0..m)
                 .filter(|&j| classes[j].has_r())
                 .flat_map(|j| (0..d).map(move |c| (j, c)))
-                .map(|(j, c)| (offset[j] + c, self.gap[i][d * j + c]))
-                .filter(|&(_, g)| g != 0.0)
-                .collect();
+                .map(|(j, c)| (offset[j] + c, row[d * j + c]))
+                .filter(|&(_, x)| x != 0.0)
+                .collect()
+        };
+        let gap = |i: usize, minus_t: bool, constant: f64| {
+            let mut terms = on_reactions(&self.gap[i]);
             if minus_t {
                 terms.push((vars, -1.0));
             }
@@ -560,14 +564,6 @@ impl<'a> Formulation<'a> {
                 debug_assert!(matches!(classes[j], Class::Separated | Class::Free));
             }
         }
-        let on_reactions = |row: &[f64]| -> Vec<(usize, f64)> {
-            (0..m)
-                .filter(|&j| classes[j].has_r())
-                .flat_map(|j| (0..d).map(move |c| (j, c)))
-                .map(|(j, c)| (offset[j] + c, row[d * j + c]))
-                .filter(|&(_, x)| x != 0.0)
-                .collect()
-        };
         for cut in cuts {
             p.nonneg(Affine::new(on_reactions(cut), 0.0));
         }
