@@ -121,6 +121,8 @@ pub struct CriticalInfoJson {
     pub pruned_infeasible: u64,
     pub leaves_solved: u64,
     pub bound_tightenings: u64,
+    pub simplex_solves: u64,
+    pub simplex_fallbacks: u64,
     pub dinkelbach_steps: u64,
     pub bisection_steps: u64,
     pub certificates: u64,
@@ -145,6 +147,8 @@ impl CriticalInfoJson {
             pruned_infeasible,
             leaves_solved,
             bound_tightenings,
+            simplex_solves,
+            simplex_fallbacks,
             dinkelbach_steps,
             bisection_steps,
             certificates,
@@ -163,6 +167,8 @@ impl CriticalInfoJson {
             pruned_infeasible,
             leaves_solved,
             bound_tightenings,
+            simplex_solves,
+            simplex_fallbacks,
             dinkelbach_steps,
             bisection_steps,
             certificates,
@@ -626,6 +632,17 @@ fn info_lines(out: &mut String, problem: &Problem, result: &Critical) {
                 "drive cuts from bounds tightened at {} (checked in floating point; \
                  --certify proves every prune exactly without them)",
                 plural(info.bound_tightenings as usize, "node", "nodes")
+            ));
+        }
+        if info.simplex_solves + info.simplex_fallbacks > 0 {
+            search.push(format!(
+                "{} by the warm-started simplex method, {} left to Clarabel",
+                plural(
+                    info.simplex_solves as usize,
+                    "linear program",
+                    "linear programs"
+                ),
+                info.simplex_fallbacks
             ));
         }
     } else if info.method == "faces" {

@@ -1023,6 +1023,8 @@ fn check_critical_keys(report: &Value) {
         "pruned_infeasible",
         "leaves_solved",
         "bound_tightenings",
+        "simplex_solves",
+        "simplex_fallbacks",
         "dinkelbach_steps",
         "bisection_steps",
         "certificates",
@@ -1038,7 +1040,7 @@ fn check_critical_keys(report: &Value) {
     ] {
         assert!(info.contains_key(key), "missing info.{key}: {info:?}");
     }
-    assert_eq!(info.len(), 17, "{info:?}");
+    assert_eq!(info.len(), 19, "{info:?}");
 }
 
 /// One node with `K_nn = 2, K_nt = 1, K_tt = 1`: `mu* = K_tt / |K_nt| = 1`.

@@ -53,6 +53,7 @@ pub mod fe;
 pub(crate) mod linalg;
 pub mod patterns;
 pub mod problem;
+pub(crate) mod simplex;
 pub(crate) mod socp;
 pub mod verify;
 

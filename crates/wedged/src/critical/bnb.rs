@@ -27,11 +27,18 @@
 //! 39k nodes and 15 s with cuts at the root, 23k and 10.6 s down to depth 4, against 12k and
 //! 3.7 s without. A certified run leaves them out too, since its refutations must be checked
 //! exactly.
+//!
+//! **The simplex method (the same searches).** Their programs are linear programs of one
+//! shape ([`super::lp`]); each is solved by the in-house simplex method from its parent's
+//! basis (the tightening programs from the node's), a few pivots where Clarabel starts over.
+//! On the 2D plug with m = 40 that took the search from 18 s to 2.2 s, with m = 60 from 268 s
+//! to 22 s (`BENCHMARKS.md`).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use super::cuts::{self, Drive};
+use super::lp::{self, LpCounters, Shape, Warm};
 use super::{CriticalInfo, CriticalProgress, Ctx, Found, Leaf};
 use crate::enumerate::Control;
 use crate::patterns::program::{Class, Decision, Formulation, Goal, Norm};
@@ -55,7 +62,7 @@ const RETIGHTEN_DEPTH: usize = 8;
 /// Drive bounds and the level they hold at.
 struct Bounds {
     level: f64,
-    drive: Drive,
+    drive: Arc<Drive>,
 }
 
 struct Search<'a, 'b, 'c> {
@@ -76,6 +83,8 @@ struct Search<'a, 'b, 'c> {
     /// Whether the search uses drive cuts (not in a certified run).
     cut: bool,
     tightened: AtomicU64,
+    /// The simplex method's counts (the programs of a search with drive cuts).
+    lp: LpCounters,
 }
 
 impl Search<'_, '_, '_> {
@@ -125,7 +134,13 @@ impl Search<'_, '_, '_> {
             .push(Undecided { contact, reason });
     }
 
-    fn explore(&self, classes: Vec<Class>, depth: usize, drive: Option<Arc<Bounds>>) {
+    fn explore(
+        &self,
+        classes: Vec<Class>,
+        depth: usize,
+        drive: Option<Arc<Bounds>>,
+        warm: Option<Arc<Warm>>,
+    ) {
         if self.control.must_stop(0) {
             return;
         }
@@ -145,6 +160,7 @@ impl Search<'_, '_, '_> {
         };
         self.visited.fetch_add(1, Ordering::Relaxed);
         let mut drive = drive;
+        let mut warm = warm;
         let stale = drive
             .as_ref()
             .is_some_and(|b| b.level > level * (1.0 + STALE));
@@ -155,11 +171,33 @@ impl Search<'_, '_, '_> {
         {
             self.tightened.fetch_add(1, Ordering::Relaxed);
             let known = drive.as_ref().map(|b| &b.drive);
-            match cuts::tighten(self.form(), &classes, level, known) {
+            let shape = Shape {
+                mu: level,
+                drive: known,
+            };
+            // The relaxation itself first: when it is infeasible, nothing to tighten; when
+            // not, its basis is the start of every tightening program.
+            let (first, basis) = lp::decide(
+                self.form(),
+                &self.lp,
+                &classes,
+                shape,
+                Norm::Sum,
+                None,
+                warm.as_deref(),
+            );
+            let tight = if first == Decision::No {
+                None
+            } else {
+                let start = basis.or_else(|| warm.as_deref().cloned());
+                let minimise = lp::relaxation(self.form(), &self.lp, &classes, shape, start);
+                cuts::tighten(self.form(), &classes, known.map(|d| &**d), &minimise)
+            };
+            match tight {
                 Some(tight) => {
                     drive = Some(Arc::new(Bounds {
                         level,
-                        drive: tight,
+                        drive: Arc::new(tight),
                     }))
                 }
                 None => {
@@ -170,17 +208,12 @@ impl Search<'_, '_, '_> {
                 }
             }
         }
-        let rows = drive
-            .as_deref()
-            .map(|b| cuts::rows(self.form(), &classes, &b.drive))
-            .unwrap_or_default();
-        let mut decision = if rows.is_empty() {
-            self.form().decide_at(&classes, level, norm, Goal::Feasible)
-        } else {
+        let mut decision = if self.cut {
             // Towards a vertex: the least total of the undecided nodes' gaps and pressures.
-            // (An interior-point solver otherwise returns a central point, at which many nodes
-            // break complementarity a little, and the branching rule picks worse: on the 2D
-            // plug with m = 40, 2.9k nodes and 17 s with this objective, 5.6k and 20 s without.)
+            // (An interior-point solver returns a central point, at which many nodes break
+            // complementarity a little, and the branching rule picks worse: on the 2D plug
+            // with m = 40 and Clarabel, 2.9k nodes and 17 s with this objective, 5.6k and 20 s
+            // without.)
             let d = self.form().dim;
             let mut objective = vec![0.0; d * self.form().m];
             for &j in &free {
@@ -189,8 +222,23 @@ impl Search<'_, '_, '_> {
                 }
                 objective[d * j] += 1.0;
             }
-            let goal = Goal::Minimise(&objective);
-            self.form().decide_cut(&classes, level, norm, goal, &rows).0
+            let shape = Shape {
+                mu: level,
+                drive: drive.as_ref().map(|b| &b.drive),
+            };
+            let (decision, basis) = lp::decide(
+                self.form(),
+                &self.lp,
+                &classes,
+                shape,
+                norm,
+                (!free.is_empty()).then_some(&objective[..]),
+                warm.as_deref(),
+            );
+            warm = basis.map(Arc::new);
+            decision
+        } else {
+            self.form().decide_at(&classes, level, norm, Goal::Feasible)
         };
         if free.is_empty() && matches!(decision, Decision::Unsure(_)) {
             // The same question cut the other way: any nontrivial solution of the leaf. Its
@@ -239,7 +287,7 @@ impl Search<'_, '_, '_> {
             Decision::Yes { r, .. } => Some(r),
             Decision::Unsure(_) => None,
         };
-        self.branch(classes, depth, witness, &free, drive)
+        self.branch(classes, depth, witness, &free, drive, warm)
     }
 
     fn branch(
@@ -249,6 +297,7 @@ impl Search<'_, '_, '_> {
         witness: Option<Vec<f64>>,
         free: &[usize],
         drive: Option<Arc<Bounds>>,
+        warm: Option<Arc<Warm>>,
     ) {
         let branch = match &witness {
             None => free[0],
@@ -274,10 +323,10 @@ impl Search<'_, '_, '_> {
         to_contact[branch] = Class::Contact;
         let mut to_separated = classes;
         to_separated[branch] = Class::Separated;
-        let other = drive.clone();
+        let (other, other_warm) = (drive.clone(), warm.clone());
         rayon::join(
-            || self.explore(to_contact, depth + 1, drive),
-            || self.explore(to_separated, depth + 1, other),
+            || self.explore(to_contact, depth + 1, drive, warm),
+            || self.explore(to_separated, depth + 1, other, other_warm),
         );
     }
 }
@@ -313,6 +362,7 @@ pub(super) fn run(
         explored: AtomicU64::new(0),
         cut: ctx.form.refutations.is_none() && ctx.form.dim == 2,
         tightened: AtomicU64::new(0),
+        lp: LpCounters::default(),
     };
     let report = |search: &Search| {
         let best = search.incumbent();
@@ -326,7 +376,7 @@ pub(super) fn run(
             for bar in bars(ctx.form.mu) {
                 search.bar.store(bar.to_bits(), Ordering::Relaxed);
                 search.explored.store(0, Ordering::Relaxed);
-                search.explore(vec![Class::Free; ctx.form.m], 0, None);
+                search.explore(vec![Class::Free; ctx.form.m], 0, None, None);
                 let found = search.best.lock().map_or(true, |b| b.is_some());
                 if found || control.stopped().is_some() {
                     break;
@@ -339,6 +389,8 @@ pub(super) fn run(
     info.pruned_infeasible = search.pruned.into_inner();
     info.leaves_solved = search.leaves.into_inner();
     info.bound_tightenings = search.tightened.into_inner();
+    info.simplex_solves = search.lp.solves.into_inner();
+    info.simplex_fallbacks = search.lp.fallbacks.into_inner();
     let best = search.best.into_inner().unwrap_or(None);
     let leaf_lower = search.leaf_lower.into_inner().unwrap_or(f64::INFINITY);
     // Every prune of the last pass was at min(bar, incumbent (1 - tol)) or above.

@@ -36,7 +36,7 @@
 
 use rayon::prelude::*;
 
-use crate::patterns::program::{Class, Decision, Formulation, Goal, Norm};
+use crate::patterns::program::{Class, Decision, Formulation};
 
 /// Bounds `(L, U)` on each node's drive per unit of total pressure (infinite when unknown).
 pub(crate) type Drive = Vec<(f64, f64)>;
@@ -55,57 +55,63 @@ fn drive_row(form: &Formulation, j: usize) -> Vec<f64> {
     w
 }
 
-/// The cuts (rows `a` of `a . r >= 0` over all reaction components) that the bounds `drive`
-/// give the free nodes of `classes`.
-pub(crate) fn rows(form: &Formulation, classes: &[Class], drive: &[(f64, f64)]) -> Vec<Vec<f64>> {
-    let d = form.dim;
-    let mut rows = Vec::new();
-    for (j, &(lo, hi)) in drive.iter().enumerate() {
-        if classes[j] != Class::Free || !lo.is_finite() || !hi.is_finite() || lo > hi {
-            continue;
-        }
-        let mut row = vec![0.0; d * form.m];
-        if lo >= 0.0 {
-            // -r_n_j >= 0.
-            row[d * j] = -1.0;
-        } else if hi <= 0.0 {
-            // -u_n_j >= 0.
-            row.iter_mut()
-                .zip(form.gap_row(j))
-                .for_each(|(a, g)| *a = -g);
-        } else {
-            // -L U s + L w_j - c_j (U - L) r_n_j >= 0.
-            let c = form.gap_row(j)[d * j];
-            for (a, w) in row.iter_mut().zip(drive_row(form, j)) {
-                *a = lo * w;
-            }
-            for k in 0..form.m {
-                row[d * k] -= lo * hi;
-            }
-            row[d * j] -= c * (hi - lo);
-        }
-        rows.push(row);
+/// The cut (a row `a` of `a . r >= 0` over all reaction components) that bounds `(lo, hi)` on
+/// node `j`'s drive give, `None` when they give none (not both finite, or crossed).
+pub(crate) fn row(form: &Formulation, j: usize, lo: f64, hi: f64) -> Option<Vec<f64>> {
+    if !lo.is_finite() || !hi.is_finite() || lo > hi {
+        return None;
     }
-    rows
+    let d = form.dim;
+    let mut row = vec![0.0; d * form.m];
+    if lo >= 0.0 {
+        // -r_n_j >= 0.
+        row[d * j] = -1.0;
+    } else if hi <= 0.0 {
+        // -u_n_j >= 0.
+        row.iter_mut()
+            .zip(form.gap_row(j))
+            .for_each(|(a, g)| *a = -g);
+    } else {
+        // -L U s + L w_j - c_j (U - L) r_n_j >= 0.
+        let c = form.gap_row(j)[d * j];
+        for (a, w) in row.iter_mut().zip(drive_row(form, j)) {
+            *a = lo * w;
+        }
+        for k in 0..form.m {
+            row[d * k] -= lo * hi;
+        }
+        row[d * j] -= c * (hi - lo);
+    }
+    Some(row)
+}
+
+/// The cuts (rows [`row`]) that the bounds `drive` give the free nodes of `classes`.
+pub(crate) fn rows(form: &Formulation, classes: &[Class], drive: &[(f64, f64)]) -> Vec<Vec<f64>> {
+    drive
+        .iter()
+        .enumerate()
+        .filter(|&(j, _)| classes[j] == Class::Free)
+        .filter_map(|(j, &(lo, hi))| row(form, j, lo, hi))
+        .collect()
 }
 
 /// Bound tightening at a search node: for every free node of `classes`, the least and the
-/// greatest drive over its relaxation at `mu` (finite) with `sum r_n = 1` and the cuts of
-/// `drive`, intersected with `drive`. `None` when the relaxation is infeasible (certified by
+/// greatest drive over its relaxation at a finite `mu` with `sum r_n = 1` and the cuts of
+/// `drive`, intersected with `drive`. `minimise` solves that relaxation with a linear
+/// objective over the reaction components (by Clarabel, [`clarabel_relaxation`], or by the
+/// simplex method, `critical/lp.rs`). `None` when the relaxation is infeasible (certified by
 /// the solver: the subtree has no solution at `mu` or below). A bound the solver cannot
 /// decide stays as it was.
 pub(crate) fn tighten(
     form: &Formulation,
     classes: &[Class],
-    mu: f64,
     drive: Option<&Drive>,
+    minimise: &(dyn Fn(&[f64]) -> Decision + Sync),
 ) -> Option<Drive> {
-    debug_assert!(mu.is_finite());
     let m = form.m;
     let mut out = drive
         .cloned()
         .unwrap_or_else(|| vec![(f64::NEG_INFINITY, f64::INFINITY); m]);
-    let cuts = rows(form, classes, &out);
     let free: Vec<usize> = (0..m).filter(|&j| classes[j] == Class::Free).collect();
     // Each free node's two programs (`None` when one is infeasible): the node and its new
     // bounds, each `None` when the solver was unsure.
@@ -116,9 +122,7 @@ pub(crate) fn tighten(
             let w = drive_row(form, j);
             let extreme = |sign: f64| -> Option<Option<f64>> {
                 let objective: Vec<f64> = w.iter().map(|x| sign * x).collect();
-                let (decision, _) =
-                    form.decide_cut(classes, mu, Norm::Sum, Goal::Minimise(&objective), &cuts);
-                match decision {
+                match minimise(&objective) {
                     Decision::No => None,
                     Decision::Unsure(_) => Some(None),
                     Decision::Yes { r, .. } => {
@@ -141,19 +145,42 @@ pub(crate) fn tighten(
     Some(out)
 }
 
+/// The relaxation of [`tighten`] solved by Clarabel: the node of `classes` at `mu` (finite)
+/// with `sum r_n = 1` and the cuts of `drive`. (The search uses the simplex method; the tests
+/// check the cuts of both.)
+#[cfg(test)]
+pub(crate) fn clarabel_relaxation<'a>(
+    form: &'a Formulation,
+    classes: &'a [Class],
+    mu: f64,
+    drive: Option<&Drive>,
+) -> impl Fn(&[f64]) -> Decision + Sync + 'a {
+    use crate::patterns::program::{Goal, Norm};
+    debug_assert!(mu.is_finite());
+    let cuts = drive.map(|d| rows(form, classes, d)).unwrap_or_default();
+    move |objective: &[f64]| {
+        form.decide_cut(classes, mu, Norm::Sum, Goal::Minimise(objective), &cuts)
+            .0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::critical::lp::{self, LpCounters, Shape};
     use crate::enumerate::{enumerate, Settings};
     use crate::examples::random_spd_problem;
+    use std::sync::atomic::Ordering;
+    use std::sync::Arc;
 
     /// Every extreme ray of the solution set of a random 2D problem (enumerated independently,
-    /// by double description) satisfies the cuts of the root and of random subtrees it belongs
+    /// by double description) satisfies the cuts (bounds tightened by Clarabel or by the
+    /// simplex method) of the root and of random subtrees it belongs
     /// to; a cut is linear, so every solution, a combination of rays of one cone, does too.
     /// Some cuts hold a ray tightly: a cut any stronger would cut off a solution.
     #[test]
     fn cuts_keep_every_solution() {
-        let (mut checked, mut tight, mut rows_seen) = (0, 0, 0);
+        let (mut checked, mut tight, mut rows_seen, mut simplex_solves) = (0, 0, 0, 0);
         for seed in 0..40u64 {
             let m = 2 + (seed % 5) as usize;
             let problem = random_spd_problem(m, 2.5, 7000 + seed);
@@ -174,8 +201,31 @@ mod tests {
                         }
                     })
                     .collect();
-                let first = tighten(&form, &classes, problem.mu(), None);
-                let again = first.and_then(|d| tighten(&form, &classes, problem.mu(), Some(&d)));
+                // Tightened twice, by Clarabel in even rounds and by the simplex method
+                // in odd ones.
+                let mu = problem.mu();
+                let by_simplex = round % 2 == 1;
+                let counters = LpCounters::default();
+                let twice = |d: Option<&Drive>| -> Option<Drive> {
+                    if by_simplex {
+                        let arc = d.cloned().map(Arc::new);
+                        let shape = Shape {
+                            mu,
+                            drive: arc.as_ref(),
+                        };
+                        let minimise = lp::relaxation(&form, &counters, &classes, shape, None);
+                        tighten(&form, &classes, d, &minimise)
+                    } else {
+                        tighten(
+                            &form,
+                            &classes,
+                            d,
+                            &clarabel_relaxation(&form, &classes, mu, d),
+                        )
+                    }
+                };
+                let again = twice(None).and_then(|d| twice(Some(&d)));
+                simplex_solves += counters.solves.load(Ordering::Relaxed);
                 let Some(drive) = again else {
                     // Certified infeasible: then no ray may belong to the subtree.
                     assert!(
@@ -198,8 +248,8 @@ mod tests {
             }
         }
         assert!(
-            rows_seen > 100 && checked > 100 && tight > 10,
-            "{rows_seen} {checked} {tight}"
+            rows_seen > 100 && checked > 100 && tight > 10 && simplex_solves > 100,
+            "{rows_seen} {checked} {tight} {simplex_solves}"
         );
     }
 

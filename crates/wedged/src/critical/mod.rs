@@ -48,6 +48,7 @@ pub mod certify;
 mod cuts;
 mod enumerate;
 mod faces;
+mod lp;
 mod polish;
 
 use std::fmt;
@@ -198,6 +199,11 @@ pub struct CriticalInfo {
     /// Search nodes that tightened the bounds behind their drive cuts (bnb without
     /// `certify`; see `critical/cuts.rs`), two programs per undecided node each.
     pub bound_tightenings: u64,
+    /// Linear programs of a search with drive cuts decided by the in-house simplex method,
+    /// warm-started (2D bnb without `certify`; see `simplex.rs`).
+    pub simplex_solves: u64,
+    /// Programs the simplex method could not decide, solved by Clarabel instead.
+    pub simplex_fallbacks: u64,
     /// Dinkelbach steps (programs minimising the slack).
     pub dinkelbach_steps: u64,
     /// Bisection steps (faces).

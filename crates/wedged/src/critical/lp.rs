@@ -1,0 +1,245 @@
+//! The 2D search node of `bnb` as a linear program for the in-house simplex method
+//! ([`crate::simplex`]), warm-started from the parent's basis.
+//!
+//! **The program** has one fixed shape for the whole search, so that a basis carries over from
+//! a node to its children and to its bound-tightening programs, which differ only in bounds
+//! and costs:
+//! - two columns per node, `a_i, b_i >= 0`, the friction cone's edges: `r_n_i = a_i + b_i`,
+//!   `r_t_i = mu (a_i - b_i)` (at `mu = infinity`: `r_n_i = a_i`, `r_t_i = b_i` free), so the
+//!   friction law is a pair of bounds; a node without a reaction has both fixed at zero;
+//! - rows, each a row activity with bounds: the scaled gaps `u_n_i` (`= 0` in contact, `>= 0`
+//!   otherwise), the pressures `r_n_i` (`>= 1` on the nodes of [`Norm::Pressed`], free
+//!   otherwise), the total `sum r_n` (`= 1` for [`Norm::Sum`], free otherwise), and one drive
+//!   cut per node ([`cuts::row`]; free where the node is not undecided or has none).
+//!
+//! The matrix depends on `mu` and on the drive bounds only; a [`Warm`] basis made for other
+//! ones keeps its basic set but forgets its inverse.
+//!
+//! **Answers** are checked by [`crate::simplex`] as [`crate::socp`] checks Clarabel's. A
+//! program the simplex method cannot decide goes to Clarabel
+//! ([`Formulation::decide_cut`]); `fallbacks` counts those.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+
+use super::cuts::{self, Drive};
+use crate::patterns::program::{Class, Decision, Formulation, Goal, Norm};
+use crate::simplex::{self, Answer, Basis, Lp};
+
+/// A basis and what its matrix was made for.
+#[derive(Debug, Clone)]
+pub(crate) struct Warm {
+    basis: Basis,
+    /// `mu` as bits.
+    mu: u64,
+    /// The drive bounds (by address; `0` for none).
+    drive: usize,
+}
+
+/// The matrix of a program: the level `mu` and the drive bounds of the cuts.
+#[derive(Clone, Copy)]
+pub(crate) struct Shape<'d> {
+    pub mu: f64,
+    pub drive: Option<&'d Arc<Drive>>,
+}
+
+impl Shape<'_> {
+    fn drive_key(&self) -> usize {
+        self.drive.map_or(0, |d| Arc::as_ptr(d) as usize)
+    }
+}
+
+/// Counts of a run.
+#[derive(Debug, Default)]
+pub(crate) struct LpCounters {
+    /// Programs the simplex method decided.
+    pub solves: AtomicU64,
+    /// Programs it could not, passed to Clarabel.
+    pub fallbacks: AtomicU64,
+    pub pivots: AtomicU64,
+}
+
+/// Column coefficients of a row over the reaction components (`2m`), at `mu`.
+fn on_columns(row: &[f64], mu: f64) -> impl Iterator<Item = (f64, f64)> + '_ {
+    row.chunks(2).map(move |w| {
+        if mu.is_finite() {
+            (w[0] + mu * w[1], w[0] - mu * w[1])
+        } else {
+            (w[0], w[1])
+        }
+    })
+}
+
+/// The program of `classes` at `shape`, normalised by `norm` ([`Norm::Sum`] or
+/// [`Norm::Pressed`]), minimising `objective` over the reaction components (none: zero).
+pub(crate) fn program(
+    form: &Formulation,
+    classes: &[Class],
+    shape: Shape,
+    norm: Norm,
+    objective: Option<&[f64]>,
+) -> Lp {
+    let m = form.m;
+    let n = 2 * m;
+    let rows = 3 * m + 1;
+    let mu = shape.mu;
+    let mut lp = Lp::new(n, rows);
+    let set_row = |lp: &mut Lp, k: usize, row: &[f64]| {
+        for (i, (a, b)) in on_columns(row, mu).enumerate() {
+            lp.a[k * n + 2 * i] = a;
+            lp.a[k * n + 2 * i + 1] = b;
+        }
+    };
+    let mut unit = vec![0.0; n];
+    for i in 0..m {
+        set_row(&mut lp, i, form.gap_row(i));
+        unit.iter_mut().for_each(|x| *x = 0.0);
+        unit[2 * i] = 1.0;
+        set_row(&mut lp, m + i, &unit);
+    }
+    let all: Vec<f64> = (0..n).map(|c| if c % 2 == 0 { 1.0 } else { 0.0 }).collect();
+    set_row(&mut lp, 2 * m, &all);
+    if let Some(drive) = shape.drive {
+        for (j, &(lo, hi)) in drive.iter().enumerate() {
+            if let Some(row) = cuts::row(form, j, lo, hi) {
+                set_row(&mut lp, 2 * m + 1 + j, &row);
+                if classes[j] == Class::Free {
+                    (lp.lo[n + 2 * m + 1 + j], lp.hi[n + 2 * m + 1 + j]) = (0.0, f64::INFINITY);
+                }
+            }
+        }
+    }
+    for (i, &c) in classes.iter().enumerate() {
+        let has_r = matches!(c, Class::Contact | Class::Free);
+        let (a, b) = (2 * i, 2 * i + 1);
+        (lp.lo[a], lp.hi[a]) = (0.0, if has_r { f64::INFINITY } else { 0.0 });
+        (lp.lo[b], lp.hi[b]) = match (has_r, mu.is_finite()) {
+            (false, _) => (0.0, 0.0),
+            (true, true) => (0.0, f64::INFINITY),
+            (true, false) => (f64::NEG_INFINITY, f64::INFINITY),
+        };
+        let gap = n + i;
+        (lp.lo[gap], lp.hi[gap]) = match c {
+            Class::Contact | Class::Grazing => (0.0, 0.0),
+            Class::Separated | Class::Free => (0.0, f64::INFINITY),
+        };
+    }
+    match norm {
+        Norm::Sum => (lp.lo[n + 2 * m], lp.hi[n + 2 * m]) = (1.0, 1.0),
+        Norm::Pressed(nodes) => {
+            for &i in nodes {
+                lp.lo[n + m + i] = 1.0;
+            }
+        }
+        Norm::Gap(_) => unreachable!("the search normalises by the sum or by pressed nodes"),
+    }
+    if let Some(objective) = objective {
+        for (i, (a, b)) in on_columns(objective, mu).enumerate() {
+            lp.cost[2 * i] = a;
+            lp.cost[2 * i + 1] = b;
+        }
+    }
+    lp
+}
+
+/// The reactions (`2m`) of the columns `x`, at `mu`.
+fn reactions(x: &[f64], m: usize, mu: f64) -> Vec<f64> {
+    let mut r = vec![0.0; 2 * m];
+    for i in 0..m {
+        let (a, b) = (x[2 * i], x[2 * i + 1]);
+        if mu.is_finite() {
+            r[2 * i] = a + b;
+            r[2 * i + 1] = mu * (a - b);
+        } else {
+            r[2 * i] = a;
+            r[2 * i + 1] = b;
+        }
+    }
+    r
+}
+
+/// A start for programs of `shape` from `warm` (its inverse dropped when it was made for
+/// another matrix).
+fn start(warm: Option<&Warm>, shape: Shape) -> Option<Basis> {
+    let warm = warm?;
+    let mut basis = warm.basis.clone();
+    if warm.mu != shape.mu.to_bits() || warm.drive != shape.drive_key() {
+        basis.forget();
+    }
+    Some(basis)
+}
+
+/// Solves the program of `classes` at `shape` with `norm` and `objective` (see [`program`]),
+/// from `warm`. Returns the decision (reactions rescaled to `sum r_n = 1`; value the optimal
+/// cost, `0` without an objective) and the final basis, when the simplex method decided; a
+/// program it could not decide is solved by Clarabel, with no basis.
+pub(crate) fn decide(
+    form: &Formulation,
+    counters: &LpCounters,
+    classes: &[Class],
+    shape: Shape,
+    norm: Norm,
+    objective: Option<&[f64]>,
+    warm: Option<&Warm>,
+) -> (Decision, Option<Warm>) {
+    let lp = program(form, classes, shape, norm, objective);
+    let basis = start(warm, shape);
+    let (answer, basis, stats) = simplex::solve(&lp, basis.as_ref());
+    counters.pivots.fetch_add(stats.pivots, Ordering::Relaxed);
+    let warm = Warm {
+        basis,
+        mu: shape.mu.to_bits(),
+        drive: shape.drive_key(),
+    };
+    match answer {
+        Answer::Optimal { x, value } => {
+            counters.solves.fetch_add(1, Ordering::Relaxed);
+            let mut r = reactions(&x, form.m, shape.mu);
+            if !matches!(norm, Norm::Sum) {
+                let total: f64 = r.iter().step_by(2).sum();
+                r.iter_mut().for_each(|x| *x /= total);
+            }
+            (Decision::Yes { r, value }, Some(warm))
+        }
+        Answer::Infeasible { .. } => {
+            counters.solves.fetch_add(1, Ordering::Relaxed);
+            (Decision::No, Some(warm))
+        }
+        Answer::Failed(_) => {
+            counters.fallbacks.fetch_add(1, Ordering::Relaxed);
+            let rows = shape
+                .drive
+                .map(|d| cuts::rows(form, classes, d))
+                .unwrap_or_default();
+            let goal = objective.map_or(Goal::Feasible, Goal::Minimise);
+            (
+                form.decide_cut(classes, shape.mu, norm, goal, &rows).0,
+                None,
+            )
+        }
+    }
+}
+
+/// The relaxation of a search node (`classes` at `shape`, `sum r_n = 1`) as the closure that
+/// [`cuts::tighten`] minimises over, each program started from `start`.
+pub(crate) fn relaxation<'a>(
+    form: &'a Formulation,
+    counters: &'a LpCounters,
+    classes: &'a [Class],
+    shape: Shape<'a>,
+    start: Option<Warm>,
+) -> impl Fn(&[f64]) -> Decision + Sync + 'a {
+    move |objective: &[f64]| {
+        let start = start.as_ref();
+        decide(
+            form,
+            counters,
+            classes,
+            shape,
+            Norm::Sum,
+            Some(objective),
+            start,
+        )
+        .0
+    }
+}
