@@ -20,9 +20,12 @@
 //! free one at zero). When the basis is not primal feasible, the costs of the nonbasic
 //! variables whose reduced cost has the wrong sign are shifted to make it dual feasible, the
 //! dual simplex method restores primal feasibility (Harris's two-pass ratio test, the largest
-//! infeasibility leaves), the shifts are dropped, and the primal simplex method (Dantzig's
-//! rule, Harris's ratio test, bound flips) finishes. The basic values and the reduced costs are
-//! recomputed from the inverse at every step, so errors do not build up across pivots.
+//! infeasibility leaves), the shifts are dropped, and the primal simplex method (Devex
+//! pricing, Harris's ratio test, bound flips) finishes. The basic values and the reduced costs
+//! are updated at each pivot and recomputed from the inverse every [`REFRESH`] pivots and
+//! before every verdict; a pivot element that the pivot row and the pivot column disagree on
+//! refactors the inverse. Dot products run on eight partial sums, which the compiler
+//! vectorises (on the 2D plug with m = 60 that alone halved the search's time).
 //!
 //! **Checked answers.** As in [`crate::socp`], nothing is returned unchecked:
 //! - `Optimal`: the row activities are recomputed as `A x` and every bound must hold within
@@ -46,6 +49,9 @@ const PIVOT: f64 = 1e-9;
 const CERT: f64 = 1e-6;
 /// Entries of a certificate against an infinite bound up to this (relative) are dropped.
 const TINY: f64 = 1e-12;
+/// Values and reduced costs, updated at each pivot, are recomputed from the inverse after
+/// this many pivots (and before every verdict).
+const REFRESH: u64 = 32;
 
 /// A linear program in the bounded form of the module docs.
 #[derive(Debug, Clone)]
@@ -265,9 +271,26 @@ fn invert(lp: &Lp, head: &[usize]) -> Option<Vec<f64>> {
 
 /// The square row-major matrix `inv` times `v`.
 fn times(inv: &[f64], v: &[f64]) -> Vec<f64> {
-    inv.chunks(v.len())
-        .map(|row| row.iter().zip(v).map(|(a, b)| a * b).sum())
-        .collect()
+    inv.chunks(v.len()).map(|row| dot(row, v)).collect()
+}
+
+/// `a . b` with eight partial sums, which the compiler vectorises (a plain sum of products it
+/// may not reorder).
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0f64; 8];
+    let (a8, b8) = (a.chunks_exact(8), b.chunks_exact(8));
+    let tail: f64 = a8
+        .remainder()
+        .iter()
+        .zip(b8.remainder())
+        .map(|(x, y)| x * y)
+        .sum();
+    for (x, y) in a8.zip(b8) {
+        for k in 0..8 {
+            acc[k] += x[k] * y[k];
+        }
+    }
+    acc.iter().sum::<f64>() + tail
 }
 
 /// What a run ends in, before the check.
@@ -458,6 +481,9 @@ impl<'a> Run<'a> {
             if shifted {
                 self.dual();
             }
+            // Values and reduced costs are updated at each pivot, recomputed every
+            // `REFRESH` pivots and before a verdict.
+            let mut since = 0u64;
             loop {
                 steps += 1;
                 if steps > limit {
@@ -469,7 +495,13 @@ impl<'a> Run<'a> {
                     .filter(|&(_, v)| v != 0.0)
                     .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
                 else {
-                    break;
+                    if since == 0 {
+                        break;
+                    }
+                    since = 0;
+                    self.primal();
+                    self.dual();
+                    continue;
                 };
                 let s = if v < 0.0 { 1.0 } else { -1.0 };
                 let r = lp.rows;
@@ -504,6 +536,12 @@ impl<'a> Run<'a> {
                     })
                     .collect();
                 if cands.is_empty() {
+                    if since > 0 {
+                        since = 0;
+                        self.primal();
+                        self.dual();
+                        continue;
+                    }
                     return Ok(Outcome::Infeasible(p));
                 }
                 let bound = cands
@@ -516,31 +554,83 @@ impl<'a> Run<'a> {
                     .max_by(|x, y| x.2.total_cmp(&y.2))
                     .expect("the least ratio is a candidate");
                 let alpha = self.column(q);
+                let arq = alpha_row[q];
                 if alpha[p].abs() <= PIVOT * big.max(1.0) * 1e-3 {
                     return Err("a vanishing pivot".into());
                 }
+                if (alpha[p] - arq).abs() > 1e-7 * (1.0 + arq.abs()) {
+                    // The inverse has drifted: refactor and look again.
+                    stats.refactors += 1;
+                    self.basis.inv =
+                        Some(invert(lp, &self.basis.head).ok_or("the basis became singular")?);
+                    since = 0;
+                    self.primal();
+                    self.dual();
+                    continue;
+                }
+                // The dual step, then the primal one.
+                let theta = (-self.d[q] / (s * arq)).max(0.0);
+                for (j, &a) in alpha_row.iter().enumerate() {
+                    if self.basis.at[j] != At::Basic && a != 0.0 {
+                        self.d[j] += theta * s * a;
+                    }
+                }
+                let out = self.basis.head[p];
+                let target = if s > 0.0 { lp.lo[out] } else { lp.hi[out] };
+                let step = (self.x[out] - target) / arq;
+                for (k, &ak) in alpha.iter().enumerate() {
+                    let j = self.basis.head[k];
+                    self.x[j] -= ak * step;
+                }
+                self.x[q] += step;
                 let leave_at = if s > 0.0 { At::Lower } else { At::Upper };
                 self.pivot(p, q, &alpha, leave_at);
+                self.d[q] = 0.0;
+                self.d[out] = s * theta;
                 stats.pivots += 1;
-                self.primal();
-                self.dual();
+                since += 1;
+                if since >= REFRESH {
+                    since = 0;
+                    self.primal();
+                    self.dual();
+                }
             }
             if shifted {
                 self.cost.copy_from_slice(&lp.cost);
                 self.dual();
             }
         }
-        // The primal method.
+        // The primal method: Devex pricing (reference weights, Forrest and Goldfarb), the
+        // values and reduced costs updated at each pivot and recomputed every
+        // `REFRESH` pivots and before optimality is declared.
+        let mut weight = vec![1.0f64; lp.total()];
+        let mut since = 0u64;
         loop {
             steps += 1;
             if steps > limit {
                 return Err(format!("no answer after {limit} pivots"));
             }
-            let Some(q) = (0..lp.total())
-                .filter(|&j| self.dual_wrong(j))
-                .max_by(|&a, &b| self.d[a].abs().total_cmp(&self.d[b].abs()))
-            else {
-                return Ok(Outcome::Optimal);
+            let pick = |run: &Run| {
+                (0..lp.total())
+                    .filter(|&j| run.dual_wrong(j))
+                    .max_by(|&a, &b| {
+                        (run.d[a] * run.d[a] / weight[a])
+                            .total_cmp(&(run.d[b] * run.d[b] / weight[b]))
+                    })
+            };
+            let q = match pick(self) {
+                Some(q) => q,
+                None if since == 0 => return Ok(Outcome::Optimal),
+                None => {
+                    // Fresh values and reduced costs before the verdict.
+                    since = 0;
+                    self.primal();
+                    self.dual();
+                    match pick(self) {
+                        Some(q) => q,
+                        None => return Ok(Outcome::Optimal),
+                    }
+                }
             };
             // Increase q when its reduced cost is negative.
             let sigma = if self.d[q] < 0.0 { 1.0 } else { -1.0 };
@@ -573,25 +663,52 @@ impl<'a> Run<'a> {
                 .iter()
                 .map(|&(_, room, a, b, _)| (room + TOL * (1.0 + b.abs())) / a)
                 .fold(f64::INFINITY, f64::min);
+            let step_basic = |run: &mut Run, t: f64| {
+                for (k, &ak) in alpha.iter().enumerate() {
+                    let j = run.basis.head[k];
+                    run.x[j] -= sigma * t * ak;
+                }
+            };
+            stats.pivots += 1;
+            since += 1;
             if own.is_finite() && own <= bound {
                 // A bound flip.
+                step_basic(self, own);
                 self.basis.at[q] = if sigma > 0.0 { At::Upper } else { At::Lower };
                 self.x[q] = if sigma > 0.0 { lp.hi[q] } else { lp.lo[q] };
-                stats.pivots += 1;
-                self.primal();
                 continue;
             }
-            let Some(&(p, _, _, _, leave_at)) = rooms
+            let Some(&(p, room, rate, _, leave_at)) = rooms
                 .iter()
                 .filter(|&&(_, room, a, _, _)| room / a <= bound)
                 .max_by(|x, y| x.2.total_cmp(&y.2))
             else {
                 return Err("the program is unbounded".into());
             };
+            let t = room / rate;
+            step_basic(self, t);
+            self.x[q] += sigma * t;
+            // The pivot row, for the reduced costs and the weights.
+            let r = lp.rows;
+            let row = lp.row_times(&self.inv()[p * r..(p + 1) * r]);
+            let (aq, dq, wq) = (alpha[p], self.d[q], weight[q]);
+            let out = self.basis.head[p];
+            for j in 0..lp.total() {
+                if self.basis.at[j] != At::Basic && j != q && row[j] != 0.0 {
+                    let ratio = row[j] / aq;
+                    self.d[j] -= dq * ratio;
+                    weight[j] = weight[j].max(ratio * ratio * wq);
+                }
+            }
             self.pivot(p, q, &alpha, leave_at);
-            stats.pivots += 1;
-            self.primal();
-            self.dual();
+            self.d[q] = 0.0;
+            self.d[out] = -dq / aq;
+            weight[out] = (wq / (aq * aq)).max(1.0);
+            if since >= REFRESH {
+                since = 0;
+                self.primal();
+                self.dual();
+            }
         }
     }
 }

@@ -31,8 +31,8 @@
 //! **The simplex method (the same searches).** Their programs are linear programs of one
 //! shape ([`super::lp`]); each is solved by the in-house simplex method from its parent's
 //! basis (the tightening programs from the node's), a few pivots where Clarabel starts over.
-//! On the 2D plug with m = 40 that took the search from 18 s to 2.2 s, with m = 60 from 268 s
-//! to 22 s (`BENCHMARKS.md`).
+//! On the 2D plug with m = 40 that took the search from 18 s to 0.8 s, with m = 60 from 268 s
+//! to 7.9 s (`BENCHMARKS.md`).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -48,9 +48,10 @@ use crate::patterns::Undecided;
 const FRACTION_BITS: usize = 62;
 
 /// Search nodes down to this depth tighten the bounds of their undecided nodes' drives
-/// ([`cuts::tighten`]); deeper ones inherit them. (Measured on the 2D plug, depths 2, 4, 6, 8:
-/// m = 24: 2.1, 2.0, 2.2, 2.3 s; m = 28: 4.5, 4.3, 5.0, 5.7 s; m = 40: 52, 30, 33, 35 s. Deeper
-/// tightening visits fewer nodes, 19k, 6.1k, 1.4k, 0.5k at m = 40, but solves more programs.)
+/// ([`cuts::tighten`]); deeper ones inherit them. (Measured on the 2D plug with m = 60 and the
+/// simplex method, depths 3, 4, 5, 6: 13.0, 8.9, 8.7, 10.5 s, visiting 74k, 31k, 16k, 7.8k
+/// nodes: deeper tightening visits fewer nodes but solves more programs. With Clarabel, at
+/// m = 40, depths 2, 4, 6, 8 took 52, 30, 33, 35 s.)
 const TIGHTEN_DEPTH: usize = 4;
 
 /// Bounds computed at a level more than this factor above the current one are stale: the
@@ -331,14 +332,25 @@ impl Search<'_, '_, '_> {
     }
 }
 
-/// The bars of the successive passes: the problem's own `mu`, then 4 and 16 times it, then no
-/// bar. A pass tests every node at `min(bar, incumbent (1 - tol))`; a pass that finds no leaf
-/// has certified the whole tree infeasible at its bar, so `mu* > bar`, and the next pass starts
-/// over with the next bar. The last pass, at `mu = infinity`, finding nothing certifies that no
-/// friction coefficient wedges the body. (A bar near `mu*` saves most of the work of the first
-/// dive: on the 2D plug with m = 16, 0.3 s against 1.0 s with no bar.)
-fn bars(mu: f64) -> [f64; 4] {
-    [mu, 4.0 * mu, 16.0 * mu, f64::INFINITY]
+/// The ratio of successive bars ([`bars`]).
+const BAR_RATIO: f64 = 1.25;
+
+/// The bars of the successive passes: the problem's own `mu`, then up by [`BAR_RATIO`] to 16
+/// times it, then no bar. A pass tests every node at `min(bar, incumbent (1 - tol))`; a pass
+/// that finds no leaf has certified the whole tree infeasible at its bar, so `mu* > bar`, and
+/// the next pass starts over with the next bar. The last pass, at `mu = infinity`, finding
+/// nothing certifies that no friction coefficient wedges the body. (A bar near `mu*` saves most
+/// of the work of the first dive: on the 2D plug with m = 16, 0.3 s against 1.0 s with no bar.
+/// A pass below `mu*` costs about a final proof, cheaper the further below; a pass above it
+/// crawls down from leaves up to its bar. On the 2D plug with m = 60 and `mu` = 1.8, 0.26%
+/// below `mu*`: ratios 4, 1.5, 1.25 took 166 s, 58 s, 43 s.)
+fn bars(mu: f64) -> Vec<f64> {
+    let mut out = vec![mu];
+    while out.len() < 64 && out[out.len() - 1] < 16.0 * mu / BAR_RATIO.sqrt() {
+        out.push(out[out.len() - 1] * BAR_RATIO);
+    }
+    out.push(f64::INFINITY);
+    out
 }
 
 /// Runs the search; progress is reported from the calling thread every 200 ms.

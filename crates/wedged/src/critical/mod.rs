@@ -35,8 +35,8 @@
 //! Three methods ([`CriticalMethod`]):
 //! - `bnb` (`bnb.rs`): branch and bound over contact sets with an incumbent; a subtree is
 //!   pruned when its relaxation cannot press its contact nodes at `min(bar, incumbent (1 -
-//!   tol))` (certified infeasible). The bars of successive passes are the problem's `mu`, 4 and
-//!   16 times it, and `infinity` (friction unlimited): a tree pruned entirely there proves that
+//!   tol))` (certified infeasible). The bars of successive passes are the problem's `mu`, up by
+//!   a factor 1.25 to about 16 times it, and `infinity` (friction unlimited): a tree pruned entirely there proves that
 //!   no friction coefficient wedges the body.
 //! - `enumerate` (`enumerate.rs`), the seed's method: the maximal patterns at a large `mu`,
 //!   then each one's threshold; also gives the per-pattern thresholds of `wedged sweep`.
