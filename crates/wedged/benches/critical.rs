@@ -5,6 +5,8 @@
 //!   each cone's threshold). The issue asks for bnb to be at least 10x faster.
 //! - `plug2d_m16_bnb_certify`: the same bnb run with `certify` (every refutation and the
 //!   witness re-checked in exact arithmetic); the difference is the price of `--certify`.
+//! - `plug2d_m60_bnb`: the 2D plug with 60 contact nodes ([`plug2d`]`(38, 30)`), problem `mu`
+//!   2 (target: under 30 s).
 //! - `plug3d_m20_bnb`: the 3D plug ([`plug3d`]`(4, 2)`, 20 contact nodes) by branch and bound
 //!   (target: under 60 s). Its problem `mu` (the first bar of the search) is 2.
 //!
@@ -51,10 +53,22 @@ fn bench(c: &mut Criterion) {
     });
     two.finish();
 
+    let mut large = c.benchmark_group("critical_plug2d_large");
+    large.sample_size(10);
+    large.warm_up_time(Duration::from_secs(1));
+    large.measurement_time(Duration::from_secs(120));
+    let model = plug2d(38, 30).unwrap();
+    let problem = Problem::new(2, model.k().clone(), 2.0).unwrap();
+    assert_eq!(problem.nodes(), 60);
+    large.bench_function("plug2d_m60_bnb", |b| {
+        b.iter(|| run(&problem, CriticalMethod::Bnb))
+    });
+    large.finish();
+
     let mut three = c.benchmark_group("critical_plug3d");
     three.sample_size(10);
     three.warm_up_time(Duration::from_secs(1));
-    three.measurement_time(Duration::from_secs(300));
+    three.measurement_time(Duration::from_secs(40));
     let model = plug3d(4, 2).unwrap();
     let problem = Problem::new(3, model.k().clone(), 2.0).unwrap();
     assert_eq!(problem.nodes(), 20);
