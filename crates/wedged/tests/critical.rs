@@ -618,6 +618,41 @@ fn bnb_with_drive_cuts_agrees_with_certified_runs() {
     assert!(tightenings > 50, "{tightenings} bound tightenings");
 }
 
+/// The 2D plugs of the mesh study (m = 8 to 24): the default `bnb`, whose programs the
+/// warm-started simplex method solves (`simplex.rs`), against the certified run, whose every
+/// program is Clarabel's and every prune re-checked exactly: the same `mu*`, overlapping
+/// brackets, a witness checked here, and no program left to Clarabel.
+#[test]
+fn simplex_search_agrees_with_the_certified_search_on_the_plugs() {
+    for (nx, ny) in [(5, 4), (8, 6), (10, 8), (13, 10), (16, 12)] {
+        let model = wedged::examples::plug2d(nx, ny).unwrap();
+        let problem = Problem::new(2, model.k().clone(), 1.8).unwrap();
+        let what = format!("plug {nx} x {ny}");
+        let fast = critical(&problem, &CriticalSettings::default()).unwrap();
+        let certified = solve(&problem, CriticalMethod::Bnb, &what);
+        assert_eq!(fast.status, CriticalStatus::Wedged, "{what}");
+        assert_eq!(certified.status, CriticalStatus::Wedged, "{what}");
+        check_witness(&problem, &fast, &what);
+        assert!(
+            fast.info.simplex_solves > 10 * problem.nodes() as u64
+                && fast.info.simplex_fallbacks == 0,
+            "{what}: {:?}",
+            fast.info
+        );
+        assert_eq!(certified.info.simplex_solves, 0, "{what}");
+        let (lower, upper) = (fast.lower.unwrap(), fast.upper.unwrap());
+        let (lo, up) = (certified.lower.unwrap(), certified.upper.unwrap());
+        assert!(
+            lower <= up * (1.0 + 1e-9) && lo <= upper * (1.0 + 1e-9),
+            "{what}: [{lower}, {upper}] against the certified [{lo}, {up}]"
+        );
+        assert!(
+            (upper - up).abs() <= 1e-8 * up,
+            "{what}: upper {upper} against the certified {up}"
+        );
+    }
+}
+
 fn brackets(case: &Case) -> Vec<(CriticalMethod, f64, f64)> {
     case.results
         .iter()
