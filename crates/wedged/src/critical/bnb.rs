@@ -17,7 +17,8 @@
 //! node pressed; its threshold ([`super::Ctx::leaf_threshold`]) is below the incumbent and
 //! replaces it. Subtrees run in parallel (`rayon::join`) and share the incumbent.
 //!
-//! **Drive cuts (2D, not certified).** Nodes down to [`TIGHTEN_DEPTH`] bound the drive of
+//! **Drive cuts (2D, not certified).** Nodes down to [`TIGHTEN_DEPTH`] (deeper on larger
+//! problems) bound the drive of
 //! their undecided nodes (again down to [`RETIGHTEN_DEPTH`] when the incumbent has dropped
 //! since), and every program below carries the cuts those bounds give ([`super::cuts`]): a
 //! node that presses must not be driven open. The program then also minimises the undecided
@@ -47,12 +48,15 @@ use crate::patterns::Undecided;
 /// Explored fractions are counted in units of `2^-FRACTION_BITS` of the tree.
 const FRACTION_BITS: usize = 62;
 
-/// Search nodes down to this depth tighten the bounds of their undecided nodes' drives
-/// ([`cuts::tighten`]); deeper ones inherit them. (Measured on the 2D plug with m = 60 and the
-/// simplex method, depths 3, 4, 5, 6: 13.0, 8.9, 8.7, 10.5 s, visiting 74k, 31k, 16k, 7.8k
-/// nodes: deeper tightening visits fewer nodes but solves more programs. With Clarabel, at
-/// m = 40, depths 2, 4, 6, 8 took 52, 30, 33, 35 s.)
+/// Search nodes down to this depth, or to `m /` [`TIGHTEN_PER_DEPTH`] when that is deeper,
+/// tighten the bounds of their undecided nodes' drives ([`cuts::tighten`]); deeper ones
+/// inherit them. Deeper tightening visits fewer nodes but solves more programs; the best depth
+/// grows with the problem. (Measured on the 2D plug with the simplex method, problem `mu` 2:
+/// m = 40, depths 4, 5: 0.78, 1.35 s; m = 60, depths 3, 4, 5, 6: 13.0, 8.9, 8.7, 10.5 s
+/// (74k, 31k, 16k, 7.8k nodes); m = 80, depths 4, 5, 6, 8: 85, 46, 44, 137 s (278k, 107k,
+/// 52k, 24k nodes). With Clarabel, at m = 40, depths 2, 4, 6, 8 took 52, 30, 33, 35 s.)
 const TIGHTEN_DEPTH: usize = 4;
+const TIGHTEN_PER_DEPTH: usize = 13;
 
 /// Bounds computed at a level more than this factor above the current one are stale: the
 /// incumbent has dropped since (the first nodes are visited before there is one), and nodes
@@ -168,7 +172,8 @@ impl Search<'_, '_, '_> {
         if self.cut
             && !free.is_empty()
             && level.is_finite()
-            && (depth <= TIGHTEN_DEPTH || (stale && depth <= RETIGHTEN_DEPTH))
+            && (depth <= TIGHTEN_DEPTH.max(m / TIGHTEN_PER_DEPTH)
+                || (stale && depth <= RETIGHTEN_DEPTH))
         {
             self.tightened.fetch_add(1, Ordering::Relaxed);
             let known = drive.as_ref().map(|b| &b.drive);
