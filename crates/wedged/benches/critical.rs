@@ -53,29 +53,38 @@ fn bench(c: &mut Criterion) {
     });
     two.finish();
 
-    let mut large = c.benchmark_group("critical_plug2d_large");
-    large.sample_size(10);
-    large.warm_up_time(Duration::from_secs(1));
-    large.measurement_time(Duration::from_secs(120));
     let model = plug2d(38, 30).unwrap();
     let problem = Problem::new(2, model.k().clone(), 2.0).unwrap();
-    assert_eq!(problem.nodes(), 60);
-    large.bench_function("plug2d_m60_bnb", |b| {
-        b.iter(|| run(&problem, CriticalMethod::Bnb))
-    });
-    large.finish();
-
-    let mut three = c.benchmark_group("critical_plug3d");
-    three.sample_size(10);
-    three.warm_up_time(Duration::from_secs(1));
-    three.measurement_time(Duration::from_secs(40));
+    one_run_group(
+        c,
+        "critical_plug2d_large",
+        "plug2d_m60_bnb",
+        &problem,
+        60,
+        120,
+    );
     let model = plug3d(4, 2).unwrap();
     let problem = Problem::new(3, model.k().clone(), 2.0).unwrap();
-    assert_eq!(problem.nodes(), 20);
-    three.bench_function("plug3d_m20_bnb", |b| {
-        b.iter(|| run(&problem, CriticalMethod::Bnb))
-    });
-    three.finish();
+    one_run_group(c, "critical_plug3d", "plug3d_m20_bnb", &problem, 20, 40);
+}
+
+/// A group of its own for one long `bnb` run of `problem` (`m` contact nodes): 10 samples in
+/// about `secs` seconds.
+fn one_run_group(
+    c: &mut Criterion,
+    group: &str,
+    name: &str,
+    problem: &Problem,
+    m: usize,
+    secs: u64,
+) {
+    assert_eq!(problem.nodes(), m);
+    let mut g = c.benchmark_group(group);
+    g.sample_size(10);
+    g.warm_up_time(Duration::from_secs(1));
+    g.measurement_time(Duration::from_secs(secs));
+    g.bench_function(name, |b| b.iter(|| run(problem, CriticalMethod::Bnb)));
+    g.finish();
 }
 
 criterion_group!(benches, bench);

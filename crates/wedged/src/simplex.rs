@@ -180,23 +180,20 @@ pub(crate) enum Answer {
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Stats {
     pub pivots: u64,
-    pub refactors: u64,
 }
 
 /// Solves `lp` from `start` (or the slack basis). Returns the answer and the final basis (for
 /// the next, similar program).
 pub(crate) fn solve(lp: &Lp, start: Option<&Basis>) -> (Answer, Basis, Stats) {
     let mut stats = Stats::default();
-    let first = start.filter(|b| b.fits(lp)).cloned();
-    let mut tries: Vec<Option<Basis>> = vec![None];
-    if first.is_some() {
-        tries.insert(0, first);
-    }
+    // The warm start, then (lazily) the slack basis.
+    let warm = start.filter(|b| b.fits(lp)).cloned();
+    let tries = warm
+        .into_iter()
+        .chain(std::iter::once_with(|| Basis::slack(lp)));
     let mut last = String::new();
-    for basis in tries {
-        let mut basis = basis.unwrap_or_else(|| Basis::slack(lp));
+    for mut basis in tries {
         if basis.inv.is_none() {
-            stats.refactors += 1;
             match invert(lp, &basis.head) {
                 Some(inv) => basis.inv = Some(inv),
                 None => {
@@ -560,7 +557,6 @@ impl<'a> Run<'a> {
                 }
                 if (alpha[p] - arq).abs() > 1e-7 * (1.0 + arq.abs()) {
                     // The inverse has drifted: refactor and look again.
-                    stats.refactors += 1;
                     self.basis.inv =
                         Some(invert(lp, &self.basis.head).ok_or("the basis became singular")?);
                     since = 0;

@@ -18,11 +18,11 @@
 //! replaces it. Subtrees run in parallel (`rayon::join`) and share the incumbent.
 //!
 //! **Drive cuts (2D, not certified).** Nodes down to [`TIGHTEN_DEPTH`] (deeper on larger
-//! problems) bound the drive of
-//! their undecided nodes (again down to [`RETIGHTEN_DEPTH`] when the incumbent has dropped
-//! since), and every program below carries the cuts those bounds give ([`super::cuts`]): a
-//! node that presses must not be driven open. The program then also minimises the undecided
-//! nodes' total gap and pressure, so that its point is a vertex rather than a central one. On
+//! problems) bound the drive of their undecided nodes (again down to [`RETIGHTEN_DEPTH`] when
+//! the incumbent has dropped since), and every program below carries the cuts those bounds
+//! give ([`super::cuts`]): a node that presses must not be driven open. The program then also
+//! minimises the undecided nodes' total gap and pressure, so that its point is a vertex rather
+//! than a central one. On
 //! the 2D plug this cuts the tree by 10x to 50x and the time by 3x to 8x (`BENCHMARKS.md`). In
 //! 3D the cuts are left out: on the 3D plug (m = 20) they changed the branching for the worse,
 //! 39k nodes and 15 s with cuts at the root, 23k and 10.6 s down to depth 4, against 12k and

@@ -56,7 +56,6 @@ pub(crate) struct LpCounters {
     pub solves: AtomicU64,
     /// Programs it could not, passed to Clarabel.
     pub fallbacks: AtomicU64,
-    pub pivots: AtomicU64,
 }
 
 /// Column coefficients of a row over the reaction components (`2m`), at `mu`.
@@ -72,7 +71,7 @@ fn on_columns(row: &[f64], mu: f64) -> impl Iterator<Item = (f64, f64)> + '_ {
 
 /// The program of `classes` at `shape`, normalised by `norm` ([`Norm::Sum`] or
 /// [`Norm::Pressed`]), minimising `objective` over the reaction components (none: zero).
-pub(crate) fn program(
+fn program(
     form: &Formulation,
     classes: &[Class],
     shape: Shape,
@@ -110,7 +109,7 @@ pub(crate) fn program(
         }
     }
     for (i, &c) in classes.iter().enumerate() {
-        let has_r = matches!(c, Class::Contact | Class::Free);
+        let has_r = c.has_r();
         let (a, b) = (2 * i, 2 * i + 1);
         (lp.lo[a], lp.hi[a]) = (0.0, if has_r { f64::INFINITY } else { 0.0 });
         (lp.lo[b], lp.hi[b]) = match (has_r, mu.is_finite()) {
@@ -184,8 +183,7 @@ pub(crate) fn decide(
 ) -> (Decision, Option<Warm>) {
     let lp = program(form, classes, shape, norm, objective);
     let basis = start(warm, shape);
-    let (answer, basis, stats) = simplex::solve(&lp, basis.as_ref());
-    counters.pivots.fetch_add(stats.pivots, Ordering::Relaxed);
+    let (answer, basis, _) = simplex::solve(&lp, basis.as_ref());
     let warm = Warm {
         basis,
         mu: shape.mu.to_bits(),

@@ -35,7 +35,8 @@ pub(crate) enum Class {
 }
 
 impl Class {
-    fn has_r(self) -> bool {
+    /// Whether the node's reaction may be nonzero (contact or free).
+    pub(crate) fn has_r(self) -> bool {
         matches!(self, Class::Contact | Class::Free)
     }
 }
