@@ -823,7 +823,7 @@ fn run_critical_library(
     result.map_err(|e| match e {
         EnumerateError::InvalidSettings(m) => Failure::Input(format!("invalid option: {m}")),
         e @ EnumerateError::UnsupportedDim(_) => Failure::Input(format!("{source}: {e}")),
-        e @ EnumerateError::Verification(_) => Failure::Internal(format!("{source}: {e}")),
+        e @ EnumerateError::Internal(_) => Failure::Internal(format!("{source}: {e}")),
     })
 }
 
@@ -1002,7 +1002,7 @@ fn run_library(problem: &Problem, choice: &Choice, source: &str) -> Result<Answe
             choice.name()
         )),
         EnumerateError::InvalidSettings(m) => Failure::Input(format!("invalid option: {m}")),
-        e @ EnumerateError::Verification(_) => Failure::Internal(format!("{source}: {e}")),
+        e @ EnumerateError::Internal(_) => Failure::Internal(format!("{source}: {e}")),
     })
 }
 

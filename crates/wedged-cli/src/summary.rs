@@ -628,7 +628,7 @@ fn info_line(info: &Info) -> String {
         parts.push(format!(
             "peak {} ({})",
             plural(info.peak_rays, "ray", "rays"),
-            wedged::enumerate::bytes_text(info.peak_bytes)
+            wedged::run::bytes_text(info.peak_bytes)
         ));
     }
     if info.pairs_tested > 0 {

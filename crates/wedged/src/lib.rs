@@ -43,34 +43,41 @@
 //!
 //! The core does no file I/O and knows no file format; those live in the `wedged` binary.
 
-pub mod certify;
 pub mod cliques;
+pub(crate) mod conic;
 pub mod critical;
-pub mod enumerate;
-pub mod exact;
 pub mod examples;
 pub mod fe;
 pub(crate) mod linalg;
 pub mod patterns;
 pub mod problem;
-pub(crate) mod simplex;
-pub(crate) mod socp;
-pub mod verify;
+pub(crate) mod rational;
+pub mod rays;
+pub mod run;
+pub mod solution;
+
+/// The exact certificate of a 2D ray enumeration ([`rays::certify`]).
+pub use rays::certify;
+/// The exact 2D enumeration ([`rays::exact`]).
+pub use rays::exact;
+/// The check of every reported ray ([`rays::verify`]).
+pub use rays::verify;
 
 pub use critical::{
     critical, critical_with_control, Critical, CriticalInfo, CriticalMethod, CriticalProgress,
     CriticalSettings, CriticalStatus, CriticalWitness, PatternThreshold,
-};
-pub use enumerate::{
-    enumerate, enumerate_with_control, enumerate_with_progress, Cone, ContactPattern,
-    EnumerateError, Enumeration, Info, Limits, Method, NodeStatus, Outcome, Progress, Ray,
-    Settings, Stop,
 };
 pub use patterns::{
     enumerate_patterns, enumerate_patterns_with_control, Pattern, PatternCertificate, PatternInfo,
     PatternMethod, PatternSettings, Patterns,
 };
 pub use problem::{Problem, ProblemError};
+pub use rays::{
+    enumerate, enumerate_with_control, enumerate_with_progress, Enumeration, Info, Method,
+    Progress, Settings,
+};
+pub use run::{EnumerateError, Error, Limits, Outcome, Stop};
+pub use solution::{Cone, ContactPattern, NodeStatus, Ray};
 
 /// The README's Rust example, run as a doctest.
 #[cfg(doctest)]

@@ -277,7 +277,7 @@ fn check_witness(problem: &Problem, c: &Critical, what: &str) {
         "{what}: the witness's largest ratio {best_ratio} is not upper = {upper}"
     );
     // And the library's own check agrees.
-    wedged::critical::check_at(problem, upper, &w.u, &w.r)
+    wedged::solution::check_solution(problem, upper, &w.u, &w.r)
         .unwrap_or_else(|why| panic!("{what}: check_at refuses the witness: {why}"));
 }
 

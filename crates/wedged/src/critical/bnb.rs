@@ -41,9 +41,9 @@ use std::sync::{Arc, Mutex};
 use super::cuts::{self, Drive};
 use super::lp::{self, LpCounters, Shape, Warm};
 use super::{CriticalInfo, CriticalProgress, Ctx, Found, Leaf};
-use crate::enumerate::Control;
-use crate::patterns::program::{Class, Decision, Formulation, Goal, Norm};
+use crate::conic::program::{Class, Decision, Formulation, Goal, Norm};
 use crate::patterns::Undecided;
+use crate::run::Control;
 
 /// Explored fractions are counted in units of `2^-FRACTION_BITS` of the tree.
 const FRACTION_BITS: usize = 62;

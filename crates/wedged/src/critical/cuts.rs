@@ -36,7 +36,7 @@
 
 use rayon::prelude::*;
 
-use crate::patterns::program::{Class, Decision, Formulation};
+use crate::conic::program::{Class, Decision, Formulation};
 
 /// Bounds `(L, U)` on each node's drive per unit of total pressure (infinite when unknown).
 pub(crate) type Drive = Vec<(f64, f64)>;
@@ -157,7 +157,7 @@ pub(crate) fn clarabel_relaxation<'a>(
     mu: f64,
     drive: Option<&Drive>,
 ) -> impl Fn(&[f64]) -> Decision + Sync + 'a {
-    use crate::patterns::program::{Goal, Norm};
+    use crate::conic::program::{Goal, Norm};
     debug_assert!(mu.is_finite());
     let cuts = drive.map(|d| rows(form, classes, d)).unwrap_or_default();
     move |objective: &[f64]| {
@@ -170,8 +170,8 @@ pub(crate) fn clarabel_relaxation<'a>(
 mod tests {
     use super::*;
     use crate::critical::lp::{self, LpCounters, Shape};
-    use crate::enumerate::{enumerate, Settings};
     use crate::examples::random_spd_problem;
+    use crate::rays::{enumerate, Settings};
     use std::sync::atomic::Ordering;
     use std::sync::Arc;
 

@@ -15,11 +15,10 @@ use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use super::{CriticalInfo, CriticalProgress, Ctx, Found, PatternThreshold};
-use crate::enumerate::{
-    enumerate_with_control, ContactPattern, Control, EnumerateError, Limits, NodeStatus, Outcome,
-    Settings,
-};
 use crate::patterns::{enumerate_patterns_with_control, PatternSettings, Undecided};
+use crate::rays::{enumerate_with_control, Settings};
+use crate::run::{Control, EnumerateError, Limits, Outcome};
+use crate::solution::{ContactPattern, NodeStatus};
 
 /// How many times the enumeration's `mu` may double before the branch and bound takes over.
 const MAX_DOUBLINGS: usize = 10;
@@ -38,9 +37,9 @@ pub(super) fn run(
     // Pieces as (pattern, a solution in it).
     let mut pieces: Vec<(Vec<ContactPattern>, Vec<f64>)> = Vec::new();
     for _ in 0..=MAX_DOUBLINGS {
-        let at = problem.with_mu(mu).map_err(|e| {
-            EnumerateError::InvalidSettings(format!("cannot enumerate at mu = {mu}: {e}"))
-        })?;
+        let at = problem
+            .with_mu(mu)
+            .map_err(|e| EnumerateError::Internal(format!("cannot enumerate at mu = {mu}: {e}")))?;
         // The enumeration gets what is left of the time limit.
         let limits = Limits {
             time_limit: limits.time_limit.map(|t| t.saturating_sub(start.elapsed())),

@@ -12,9 +12,9 @@
 use std::sync::atomic::Ordering;
 
 use super::{leaf_classes, CriticalInfo, CriticalProgress, Ctx, Found, Leaf, LOOSEST};
-use crate::enumerate::Control;
-use crate::patterns::program::{Decision, Goal, Norm};
+use crate::conic::program::{Decision, Goal, Norm};
 use crate::patterns::Undecided;
+use crate::run::Control;
 
 pub(super) fn run(
     ctx: &Ctx,

@@ -23,8 +23,9 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
 use super::cuts::{self, Drive};
-use crate::patterns::program::{Class, Decision, Formulation, Goal, Norm};
-use crate::simplex::{self, Answer, Basis, Lp};
+use crate::conic::program::{Class, Decision, Formulation, Goal, Norm};
+use crate::conic::simplex;
+use crate::conic::simplex::{Answer, Basis, Lp};
 
 /// A basis and what its matrix was made for.
 #[derive(Debug, Clone)]

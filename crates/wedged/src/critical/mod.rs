@@ -57,12 +57,14 @@ use std::time::Instant;
 
 use nalgebra::DMatrix;
 
-use crate::enumerate::{ContactPattern, Control, EnumerateError, Limits, NodeStatus, Stop};
-use crate::patterns::program::{
+use crate::solution::{check_solution, tangential, ContactPattern, NodeStatus};
+
+use crate::conic::program::{
     solve_again, Class, Counters, Decision, Formulation, Goal, Norm, Refutation,
 };
 use crate::patterns::Undecided;
 use crate::problem::Problem;
+use crate::run::{Control, EnumerateError, Limits, Stop};
 
 /// The most nodes [`CriticalMethod::Faces`] accepts.
 pub const CRITICAL_FACES_MAX_NODES: usize = 12;
@@ -380,8 +382,8 @@ pub fn critical_with_control(
     let witness = match (witness, upper) {
         (Some(w), Some(up)) => {
             let (u, r) = original.unscale(&scales, &w.u, &w.r);
-            check_at(original, up, &u, &r).map_err(|why| {
-                EnumerateError::InvalidSettings(format!(
+            check_solution(original, up, &u, &r).map_err(|why| {
+                EnumerateError::Internal(format!(
                     "the witness of mu* = {up}, in the problem's own units, failed its check, so \
                      no answer is given: {why}"
                 ))
@@ -466,7 +468,7 @@ const DROP: f64 = 1e-9;
 const SMALL: f64 = 1e-4;
 
 /// A scaled gap off the contact set below this is closed exactly when a solver point is made
-/// exact: the solver's accuracy, far below [`crate::patterns::program::POSITIVE`].
+/// exact: the solver's accuracy, far below [`crate::conic::program::POSITIVE`].
 const CLOSED: f64 = 1e-8;
 
 impl Ctx<'_, '_> {
@@ -705,15 +707,6 @@ impl Ctx<'_, '_> {
     }
 }
 
-/// `||r_t_i||`.
-fn tangential(r: &[f64], d: usize, i: usize) -> f64 {
-    r[d * i + 1..d * i + d]
-        .iter()
-        .map(|x| x * x)
-        .sum::<f64>()
-        .sqrt()
-}
-
 /// Two ratios within this relative distance of `upper` make the node slip.
 const SLIP_TOL: f64 = 1e-9;
 
@@ -747,8 +740,8 @@ fn witness_of(form: &Formulation, best: &Leaf) -> Result<CriticalWitness, Enumer
         status.push(s);
         pattern.push(p);
     }
-    check_at(form.problem, theta, &u, &r).map_err(|why| {
-        EnumerateError::InvalidSettings(format!(
+    check_solution(form.problem, theta, &u, &r).map_err(|why| {
+        EnumerateError::Internal(format!(
             "the witness of mu* = {theta} failed its check, so no answer is given: {why}"
         ))
     })?;
@@ -758,56 +751,4 @@ fn witness_of(form: &Formulation, best: &Leaf) -> Result<CriticalWitness, Enumer
         status,
         pattern,
     })
-}
-
-/// The relative accuracy of a witness's check.
-const CHECK_TOL: f64 = 1e-8;
-
-/// Checks `(u, r)` against WP at friction coefficient `mu`: `K u = r`, `sum r_n = 1`, `u_n >= 0`,
-/// `r_n >= 0`, `u_n r_n = 0` and `||r_t_i|| <= mu r_n_i`, relative to the terms involved.
-pub fn check_at(problem: &Problem, mu: f64, u: &[f64], r: &[f64]) -> Result<(), String> {
-    let (d, m) = (problem.dim(), problem.nodes());
-    let k = problem.stiffness();
-    let n = d * m;
-    for a in 0..n {
-        let (mut v, mut s) = (-r[a], r[a].abs());
-        for b in 0..n {
-            v += k[(a, b)] * u[b];
-            s += (k[(a, b)] * u[b]).abs();
-        }
-        if v.abs() > CHECK_TOL * s.max(f64::MIN_POSITIVE) {
-            return Err(format!(
-                "equilibrium fails in row {a}: residual {v:e} of {s:e}"
-            ));
-        }
-    }
-    let total: f64 = (0..m).map(|i| r[d * i]).sum();
-    if (total - 1.0).abs() > CHECK_TOL {
-        return Err(format!("sum r_n = {total}, not 1"));
-    }
-    let u_scale = u.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-    for i in 0..m {
-        let (un, rn) = (u[d * i], r[d * i]);
-        let rt = tangential(r, d, i);
-        let node = i + 1;
-        if un < -CHECK_TOL * u_scale {
-            return Err(format!(
-                "node {node} penetrates the obstacle (u_n = {un:e})"
-            ));
-        }
-        if rn < 0.0 {
-            return Err(format!("node {node} pulls on the obstacle (r_n = {rn:e})"));
-        }
-        if rn > 0.0 && un.abs() > CHECK_TOL * u_scale {
-            return Err(format!(
-                "node {node} is pressed with an open gap (u_n = {un:e}, r_n = {rn:e})"
-            ));
-        }
-        if rt > mu * rn * (1.0 + 1e-12) + 1e-15 {
-            return Err(format!(
-                "node {node} is outside the friction cone at mu = {mu} (|r_t| = {rt:e}, r_n = {rn:e})"
-            ));
-        }
-    }
-    Ok(())
 }

@@ -201,7 +201,9 @@ pub fn lattice_plug(contact_per_side: usize, mu: f64) -> Problem {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::enumerate::{enumerate, NodeStatus, Outcome, Settings};
+    use crate::rays::{enumerate, Settings};
+    use crate::run::Outcome;
+    use crate::solution::NodeStatus;
 
     #[test]
     fn lattice_counts_and_normals() {
@@ -348,7 +350,7 @@ mod tests {
                     }
                 }
                 // Cones mirror too, as sets of status vectors.
-                let as_statuses = |cone: &crate::enumerate::Cone, flip: bool| {
+                let as_statuses = |cone: &crate::solution::Cone, flip: bool| {
                     let mut v: Vec<Vec<NodeStatus>> = cone
                         .rays
                         .iter()

@@ -18,9 +18,11 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 
-use super::program::{Class, Decision, Entry, Formulation, Goal, Norm, POSITIVE};
 use super::{leaf_pattern, Found, PatternInfo, Undecided};
-use crate::enumerate::{ContactPattern, Control, Progress};
+use crate::conic::program::{Class, Decision, Entry, Formulation, Goal, Norm, POSITIVE};
+use crate::rays::Progress;
+use crate::run::Control;
+use crate::solution::ContactPattern;
 
 /// A witness's gap or reaction component at most this (with `sum r_n = 1`) counts as zero when
 /// deciding whether a child can inherit it: the solver's accuracy, far below [`POSITIVE`].

@@ -34,11 +34,12 @@ use num_bigint::BigInt;
 use num_traits::{Signed, ToPrimitive, Zero};
 use rayon::prelude::*;
 
-use super::program::{describe, solve_again, Formulation, Refutation};
 use super::{classes_of, Pattern, PatternMethod};
-use crate::critical::certify::{exact_state, integer_stiffness, rat};
-use crate::enumerate::{ContactPattern, NodeStatus};
+use crate::conic::program::{describe, solve_again, Formulation, Refutation};
+use crate::conic::refutation::integer_stiffness;
 use crate::problem::Problem;
+use crate::rational::{exact_state, rat};
+use crate::solution::{ContactPattern, NodeStatus};
 
 /// The outcome of the exact checks of a pattern enumeration.
 #[derive(Debug, Clone, PartialEq)]
@@ -95,14 +96,8 @@ pub(crate) fn certify(
     let refutations = form.take_refutations();
     // A failing certificate is solved once more (with its own cut, then as a trivial cone).
     let again = |f: &Refutation, mu: f64, sum: bool| solve_again(problem, f, mu, sum);
-    let checked = crate::critical::certify::certify(
-        problem,
-        &refutations,
-        None,
-        Some(problem.mu()),
-        &again,
-        None,
-    );
+    let checked =
+        crate::conic::refutation::check_all(problem, &refutations, Some(problem.mu()), &again);
     failures.extend(checked.failures);
     let k = integer_stiffness(problem);
     let witnesses: Vec<String> = patterns
@@ -127,9 +122,9 @@ pub(crate) fn certify(
         certified: failures.is_empty(),
         witnesses_checked: patterns.len(),
         witnesses_failed,
-        refutations_checked: checked.refutations_checked
+        refutations_checked: refutations.len()
             + form.settled.load(std::sync::atomic::Ordering::Relaxed) as usize,
-        refutations_failed: checked.refutations_failed,
+        refutations_failed: checked.failed,
         doubts: doubts.len(),
         failures,
     }

@@ -6,9 +6,9 @@
 //! max-min program, no search, no pruning: it shares with the other methods only the
 //! formulation of one conic program.
 
-use super::program::{Class, Decision, Entry, Formulation, Goal, Norm, POSITIVE};
 use super::{describe, pattern_of, Found, PatternInfo, Undecided};
-use crate::enumerate::Control;
+use crate::conic::program::{Class, Decision, Entry, Formulation, Goal, Norm, POSITIVE};
+use crate::run::Control;
 
 pub(super) fn run(form: &Formulation, info: &mut PatternInfo, control: &Control) -> Found {
     let m = form.m;
@@ -72,7 +72,7 @@ pub(super) fn run(form: &Formulation, info: &mut PatternInfo, control: &Control)
         }
         info.candidates += 1;
         let q = pattern_of(m, &support);
-        if q.contains(&crate::enumerate::ContactPattern::Contact) {
+        if q.contains(&crate::solution::ContactPattern::Contact) {
             found.patterns.push(q);
         }
     }

@@ -26,21 +26,22 @@
 mod bnb;
 mod certify;
 mod faces;
-pub(crate) mod program;
+
 mod pyramid;
 
 use std::fmt;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
+use crate::conic::program::{self, describe, Class, Counters, Entry, Formulation, Norm, POSITIVE};
 pub use certify::PatternCertificate;
-use program::{describe, Class, Counters, Entry, Formulation, Norm, POSITIVE};
 
-use crate::enumerate::{
-    check_zero_tol, ContactPattern, Control, EnumerateError, Limits, NodeStatus, Outcome, Progress,
-    Stop,
-};
+use crate::run::{check_zero_tol, Control, EnumerateError, Limits, Outcome, Stop};
+
+use crate::solution::{ContactPattern, NodeStatus};
+
 use crate::problem::Problem;
+use crate::rays::Progress;
 
 /// The default number of faces of the pyramid.
 pub const DEFAULT_PYRAMID_FACES: usize = 8;
@@ -231,7 +232,8 @@ pub fn enumerate_patterns_with_control(
     let mut form = Formulation::new(problem);
     if settings.certify {
         form.refutations = Some(std::sync::Mutex::new(Vec::new()));
-        form.checker = Some(crate::critical::certify::Checker::new(problem));
+        let checker = crate::conic::refutation::Checker::new(problem);
+        form.checker = Some(Box::new(move |f| checker.check(f)));
     }
     let mut info = PatternInfo::default();
     let found = if control.must_stop(0) {
@@ -261,7 +263,7 @@ pub fn enumerate_patterns_with_control(
     for q in maximal(found.patterns) {
         let finished = finish(&form, &q).and_then(|p| {
             let (u, r) = original.unscale(&scales, &p.u, &p.r);
-            crate::critical::check_at(original, original.mu(), &u, &r)
+            crate::solution::check_solution(original, original.mu(), &u, &r)
                 .map_err(|why| format!("the witness in the problem's own units: {why}"))?;
             Ok((Pattern { u, r, ..p.clone() }, p))
         });

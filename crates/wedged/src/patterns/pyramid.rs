@@ -1,5 +1,5 @@
 //! The polyhedral approximation (MISSION section 5, first method): the 2D algorithm, run with the
-//! friction cone replaced by the circumscribed pyramid with `k` faces (`crate::enumerate::dd`
+//! friction cone replaced by the circumscribed pyramid with `k` faces (`crate::rays::dd`
 //! with [`Friction::pyramid`]). The pyramid contains the cone, so every realised pattern is
 //! realised in the approximation too, and lies below one of its maximal patterns (the
 //! *candidates*). Each candidate `c` is then checked exactly: the support of the true cone
@@ -7,11 +7,14 @@
 //! the support of some candidate's cone. In 2D the friction law is already polyhedral and the
 //! candidates are the exact cones.
 
-use super::program::Formulation;
 use super::{classes_of, pattern_of, positives, Found, PatternInfo, Undecided};
-use crate::enumerate::dd::{self, Friction, Variant};
-use crate::enumerate::{cones_of_status, ContactPattern, Control, Info, Progress, Settings};
+use crate::conic::program::Formulation;
 use crate::problem::Problem;
+use crate::rays::dd;
+use crate::rays::dd::{Friction, Variant};
+use crate::rays::{Info, Progress, Settings};
+use crate::run::Control;
+use crate::solution::{piece_patterns, ContactPattern};
 
 /// The maximal patterns of the approximation, and the number of its complementary rays.
 pub(super) fn candidates(
@@ -41,7 +44,7 @@ pub(super) fn candidates(
         control,
     );
     let statuses: Vec<_> = rays.into_iter().map(|r| r.status).collect();
-    (cones_of_status(&statuses), statuses.len())
+    (piece_patterns(&statuses), statuses.len())
 }
 
 pub(super) fn run(

@@ -8,9 +8,9 @@
 
 use nalgebra::DMatrix;
 
-use crate::enumerate::{NodeStatus, Ray};
 use crate::linalg::null_vector;
 use crate::problem::Problem;
+use crate::solution::{NodeStatus, Ray};
 
 /// A ray that did not pass its check. The status vector names the ray.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -43,6 +43,15 @@ pub fn status_text(status: &[NodeStatus]) -> String {
         .map(|s| s.name())
         .collect::<Vec<_>>()
         .join(" ")
+}
+
+impl From<VerifyError> for crate::run::Error {
+    /// A ray that fails its own check is an internal failure, not the input's fault.
+    fn from(e: VerifyError) -> Self {
+        crate::run::Error::Internal(format!(
+            "a computed ray failed verification, so no answer is given: {e}"
+        ))
+    }
 }
 
 /// The rows of the constraints that `status` makes tight, in `r`-space (`u = K^{-1} r`).
@@ -232,8 +241,9 @@ pub fn verify_ray(problem: &Problem, ray: &Ray, tol: f64) -> Result<(), VerifyEr
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::enumerate::{enumerate, Settings};
     use crate::examples::demo;
+    use crate::rays::enumerate;
+    use crate::rays::Settings;
 
     /// The demo's rays pass; every kind of corruption is caught.
     #[test]

@@ -30,7 +30,7 @@
 //!   pruning), adjacency by the **combinatorial test** alone (exact, since no ray is deleted
 //!   before the end), then the complementary ones: slower, a check of the pruned one.
 //! - [`brute_force_exact`]: every status vector in `{separated, grazing, stick, slip+,
-//!   slip-}^m`, each turned into its ray (or rejected) by [`crate::certify::exact_ray_of_status`]:
+//!   slip-}^m`, each turned into its ray (or rejected) by [`crate::rays::exact_ray::exact_ray_of_status`]:
 //!   the null vector of its tight rows, kept when the rank is `4m - 1`, every strict inequality is
 //!   strict and the ray is complementary. It shares no enumeration code with the double
 //!   description; it is exponential (`5^m`) and meant for tests, `m <=`
@@ -49,13 +49,13 @@ use num_rational::BigRational;
 use num_traits::{Signed, Zero};
 use rayon::prelude::*;
 
-use crate::certify::{
-    integer_row, null_space_int, ray_of_status_quiet, to_f64, ExactProblem, ExactRay,
-};
-use crate::enumerate::{
-    cones_of_statuses, Cone, Control, EnumerateError, Info, Limits, NodeStatus, Progress, Ray,
-};
+use crate::rational::{integer_row, null_space_int, to_f64};
+
+use super::params::{Info, Progress};
 use crate::problem::Problem;
+use crate::rays::exact_ray::{ray_of_status_quiet, ExactProblem, ExactRay};
+use crate::run::{Control, EnumerateError, Limits};
+use crate::solution::{pieces, Cone, NodeStatus, Ray};
 
 /// The most nodes [`brute_force_exact`] accepts (it tries `5^m` status vectors).
 pub const BRUTE_FORCE_MAX_NODES: usize = 8;
@@ -111,7 +111,7 @@ fn finish(mut rays: Vec<ExactSolution>) -> ExactEnumeration {
     rays.sort_by(|a, b| a.status.cmp(&b.status));
     rays.dedup_by(|a, b| a.status == b.status);
     let statuses: Vec<&[NodeStatus]> = rays.iter().map(|r| r.status.as_slice()).collect();
-    let cones = cones_of_statuses(&statuses);
+    let cones = pieces(&statuses);
     ExactEnumeration { rays, cones }
 }
 
@@ -151,7 +151,7 @@ pub fn enumerate_exact_full(problem: &Problem) -> Result<ExactEnumeration, Enume
 
 /// The exact brute force: every status vector of `{separated, grazing, stick, slip+, slip-}^m`
 /// whose tight rows determine an extreme ray of `C` with exactly that status (see
-/// [`crate::certify::exact_ray_of_status`]). Independent of the double description; for tests,
+/// [`crate::rays::exact_ray::exact_ray_of_status`]). Independent of the double description; for tests,
 /// `m <=` [`BRUTE_FORCE_MAX_NODES`].
 pub fn brute_force_exact(problem: &Problem) -> Result<ExactEnumeration, EnumerateError> {
     check_dim(problem)?;

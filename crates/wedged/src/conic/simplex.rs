@@ -783,7 +783,8 @@ fn check_certificate(lp: &Lp, y: &[f64]) -> Result<Answer, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::socp::{self, Affine, Program};
+    use crate::conic::socp;
+    use crate::conic::socp::{Affine, Program};
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 

@@ -28,9 +28,13 @@ use rayon::prelude::*;
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use super::{Control, Info, NodeStatus, Progress, RawRay, Settings};
+use crate::run::Control;
+
+use super::params::{Info, Progress, RawRay, Settings};
+
 use crate::linalg::rank;
 use crate::problem::Problem;
+use crate::solution::NodeStatus;
 
 /// Which double description runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

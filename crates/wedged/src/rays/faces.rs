@@ -21,9 +21,13 @@ use std::collections::HashSet;
 
 use nalgebra::DMatrix;
 
-use super::{Control, Info, NodeStatus, RawRay, Settings};
+use crate::run::Control;
+
+use super::params::{Info, RawRay, Settings};
+
 use crate::linalg::{null_vector, rank};
 use crate::problem::Problem;
+use crate::solution::NodeStatus;
 
 pub(crate) fn run(
     problem: &Problem,
@@ -283,8 +287,8 @@ fn next_combination(c: &mut [usize], n: usize) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::enumerate::Method;
-    use crate::verify::polish_and_verify;
+    use crate::rays::verify::polish_and_verify;
+    use crate::rays::Method;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
@@ -299,7 +303,7 @@ mod tests {
         let p = Problem::new(2, k, mu).unwrap();
         let mut info = Info::default();
         let cancel = std::sync::atomic::AtomicBool::new(false);
-        let control = crate::enumerate::Control::new(Default::default(), &cancel);
+        let control = crate::run::Control::new(Default::default(), &cancel);
         let rays = run(&p, &settings(), &mut info, &control);
         (p, rays, info)
     }

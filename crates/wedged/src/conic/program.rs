@@ -9,8 +9,8 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 
+use crate::conic::socp::{solve, Affine, Answer, Program};
 use crate::problem::Problem;
-use crate::socp::{solve, Affine, Answer, Program};
 
 /// An entry is positive when it can reach this value, with `sum r_n = 1` and gaps scaled as in
 /// the module docs. Below it an entry counts as zero: the resolution of the method, a hundred
@@ -213,11 +213,15 @@ pub(crate) struct Formulation<'a> {
     /// Decisions a search relied on that [`Formulation::confirm`] could not back.
     pub doubts: Mutex<Vec<String>>,
     /// With kept refutations, checks the refutations of [`Formulation::confirm`] exactly as
-    /// they are made.
-    pub checker: Option<crate::critical::certify::Checker>,
+    /// they are made (the caller passes `refutation::Checker::check`; a closure keeps this
+    /// module free of the exact arithmetic).
+    pub checker: Option<RefutationCheck>,
     /// Refutations checked by the checker as they were made.
     pub settled: AtomicU64,
 }
+
+/// An exact check of one refutation: `Ok` when it holds, otherwise why not.
+pub type RefutationCheck = Box<dyn Fn(&Refutation) -> Result<(), String> + Send + Sync>;
 
 impl<'a> Formulation<'a> {
     pub(crate) fn new(problem: &'a Problem) -> Formulation<'a> {
@@ -416,9 +420,7 @@ impl<'a> Formulation<'a> {
     fn settle(&self, f: Refutation) -> Result<(), String> {
         match &self.checker {
             Some(checker) => {
-                checker
-                    .check(&f)
-                    .map_err(|e| format!("its certificate fails exactly: {e}"))?;
+                checker(&f).map_err(|e| format!("its certificate fails exactly: {e}"))?;
                 self.settled.fetch_add(1, Ordering::Relaxed);
             }
             None => self.keep(f),

@@ -1,0 +1,140 @@
+//! Enumeration of the 2D solution set: the complementary extreme rays of `C` and the maximal
+//! cross-complementary sets of them (MISSION sections 3 and 4).
+//!
+//! Three methods find the rays; they share the finishing step in this file, which recomputes each
+//! ray from its tight constraints, checks it ([`crate::verify`]), puts the rays in canonical order
+//! and finds the maximal cliques ([`crate::cliques`]).
+//!
+//! - [`Method::PrunedDd`] (`dd.rs`, pruned variant): the seed's algorithm, the default.
+//! - [`Method::FullDd`] (`dd.rs`, full variant): all extreme rays of `C` by double description,
+//!   then a complementarity filter.
+//! - [`Method::Faces`] (`faces.rs`): brute force over the `2^m` contact sets.
+//! - [`Method::Exact`] ([`crate::exact`]): double description in exact integer arithmetic, no
+//!   tolerance anywhere; its rays are exact (rounded to `f64` only for output), so they skip the
+//!   floating-point check of the finishing step.
+
+pub mod certify;
+pub(crate) mod dd;
+pub mod exact;
+pub mod exact_ray;
+mod faces;
+pub(crate) mod params;
+pub mod verify;
+
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+pub use params::{Enumeration, Info, Method, Progress, Settings, FACES_MAX_NODES};
+
+use crate::problem::Problem;
+use crate::run::{check_zero_tol, Control, EnumerateError, Outcome};
+use crate::solution::{pieces, Cone, NodeStatus, Ray};
+use verify::polish_and_verify;
+
+/// Enumerates the complementary extreme rays and the maximal cross-complementary sets of a 2D
+/// problem.
+pub fn enumerate(problem: &Problem, settings: &Settings) -> Result<Enumeration, EnumerateError> {
+    enumerate_with_progress(problem, settings, &|_| {})
+}
+
+/// [`enumerate`], calling `progress` as the run goes (from the calling thread).
+pub fn enumerate_with_progress(
+    problem: &Problem,
+    settings: &Settings,
+    progress: &dyn Fn(Progress),
+) -> Result<Enumeration, EnumerateError> {
+    enumerate_with_control(problem, settings, progress, &AtomicBool::new(false))
+}
+
+/// [`enumerate_with_progress`], stopping cleanly ([`Outcome::Incomplete`]) as soon as `cancel`
+/// is set (by a Ctrl-C handler, say) or a limit of `settings.limits` is reached.
+pub fn enumerate_with_control(
+    problem: &Problem,
+    settings: &Settings,
+    progress: &dyn Fn(Progress),
+    cancel: &AtomicBool,
+) -> Result<Enumeration, EnumerateError> {
+    if problem.dim() != 2 {
+        return Err(EnumerateError::UnsupportedDim(problem.dim()));
+    }
+    check_zero_tol(settings.zero_tol)?;
+    if settings.method == Method::Faces && problem.nodes() > FACES_MAX_NODES {
+        return Err(EnumerateError::InvalidSettings(format!(
+            "the faces method tries every one of the 2^m contact sets; m = {} is more than its \
+             limit of {FACES_MAX_NODES} (use pruned-dd)",
+            problem.nodes()
+        )));
+    }
+    let start = Instant::now();
+    let control = Control::new(settings.limits, cancel);
+    let mut info = Info::default();
+    let mut exact_rays: Vec<Ray> = Vec::new();
+    let raw = if control.must_stop(0) {
+        Vec::new()
+    } else {
+        match settings.method {
+            // Exact rays need no floating-point check: they go straight to the finishing step.
+            Method::Exact => {
+                exact_rays = crate::rays::exact::run(
+                    problem,
+                    crate::rays::exact::Variant::Pruned,
+                    &mut info,
+                    progress,
+                    &control,
+                )?
+                .iter()
+                .map(crate::rays::exact::ExactSolution::rounded)
+                .collect();
+                Vec::new()
+            }
+            Method::PrunedDd => dd::run(
+                problem,
+                &dd::Friction::planar(problem.mu()),
+                settings,
+                &mut info,
+                dd::Variant::Pruned,
+                progress,
+                &control,
+            ),
+            Method::FullDd => dd::run(
+                problem,
+                &dd::Friction::planar(problem.mu()),
+                settings,
+                &mut info,
+                dd::Variant::Full,
+                progress,
+                &control,
+            ),
+            Method::Faces => faces::run(problem, settings, &mut info, &control),
+        }
+    };
+    let mut rays = exact_rays;
+    for raw_ray in raw {
+        rays.push(polish_and_verify(
+            problem,
+            &raw_ray.r,
+            raw_ray.status,
+            settings.zero_tol,
+        )?);
+    }
+    rays.sort_by(|a, b| a.status.cmp(&b.status));
+    rays.dedup_by(|a, b| a.status == b.status);
+    info.seconds = start.elapsed().as_secs_f64();
+    let (outcome, cones) = match control.stopped() {
+        Some(stop) => (Outcome::Incomplete(stop), Vec::new()),
+        None if rays.is_empty() => (Outcome::NotWedged, Vec::new()),
+        None => (Outcome::Wedged, cones_of(&rays)),
+    };
+    Ok(Enumeration {
+        outcome,
+        rays,
+        cones,
+        info,
+    })
+}
+
+/// The maximal cross-complementary sets of `rays`, each with its pattern, in canonical order.
+fn cones_of(rays: &[Ray]) -> Vec<Cone> {
+    let statuses: Vec<&[NodeStatus]> = rays.iter().map(|r| r.status.as_slice()).collect();
+    pieces(&statuses)
+}

@@ -1,0 +1,232 @@
+//! The vocabulary of solutions, shared by every method: the status of a node in one solution
+//! ([`NodeStatus`]), the pattern of a node over a convex piece ([`ContactPattern`]), a 2D extreme
+//! ray ([`Ray`]), a maximal set of cross-complementary rays ([`Cone`]), how such sets are formed
+//! from statuses ([`pieces`], [`piece_patterns`]), and the one check of a solution against WP
+//! ([`check_solution`]).
+
+use crate::cliques::maximal_cliques;
+use crate::problem::Problem;
+
+/// The status of one contact node in one solution (MISSION section 2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum NodeStatus {
+    /// `u_n > 0`, `r = 0`.
+    Separated,
+    /// `u_n = 0`, `|r_t| < mu r_n`.
+    Stick,
+    /// `u_n = 0`, `r_t = +mu r_n > 0`.
+    SlipPlus,
+    /// `u_n = 0`, `r_t = -mu r_n < 0`.
+    SlipMinus,
+    /// 3D: `u_n = 0`, `||r_t|| = mu r_n > 0` (on the boundary of the round friction cone).
+    Slip,
+    /// `u_n = 0`, `r = 0`.
+    Grazing,
+}
+
+impl NodeStatus {
+    /// The name used in tables and JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            NodeStatus::Separated => "separated",
+            NodeStatus::Stick => "stick",
+            NodeStatus::SlipPlus => "slip+",
+            NodeStatus::SlipMinus => "slip-",
+            NodeStatus::Slip => "slip",
+            NodeStatus::Grazing => "grazing",
+        }
+    }
+
+    /// `u_n > 0` in this status.
+    pub fn gap_open(self) -> bool {
+        self == NodeStatus::Separated
+    }
+
+    /// `r_n > 0` in this status.
+    pub fn pressed(self) -> bool {
+        matches!(
+            self,
+            NodeStatus::Stick | NodeStatus::SlipPlus | NodeStatus::SlipMinus | NodeStatus::Slip
+        )
+    }
+}
+
+/// The contact pattern of one node over a whole convex piece `C_B`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum ContactPattern {
+    /// `u_n = 0` throughout, `r_n > 0` in the relative interior.
+    Contact,
+    /// `r = 0` throughout, `u_n > 0` in the relative interior.
+    Separated,
+    /// `u_n = 0` and `r = 0` throughout.
+    Grazing,
+}
+
+impl ContactPattern {
+    /// The name used in tables and JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            ContactPattern::Contact => "contact",
+            ContactPattern::Separated => "separated",
+            ContactPattern::Grazing => "grazing",
+        }
+    }
+}
+
+/// A complementary extreme ray of `C`: a wedged configuration, normalised to `sum r_n = 1`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ray {
+    /// Displacements, `dim*m`, in the local node frames.
+    pub u: Vec<f64>,
+    /// Reactions, `dim*m`, in the local node frames; `sum r_n = 1`.
+    pub r: Vec<f64>,
+    /// Per-node status.
+    pub status: Vec<NodeStatus>,
+}
+
+/// A maximal cross-complementary set of rays: every nonnegative combination of them is a
+/// solution, with the same contact pattern.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Cone {
+    /// Indices into [`Enumeration::rays`], increasing.
+    pub rays: Vec<usize>,
+    /// Per-node pattern of the piece.
+    pub pattern: Vec<ContactPattern>,
+}
+
+/// The status vector as text, for messages.
+pub fn status_text(status: &[NodeStatus]) -> String {
+    status
+        .iter()
+        .map(|s| s.name())
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Two rays are cross-complementary when their sum is complementary at every node.
+pub fn cross_complementary(a: &[NodeStatus], b: &[NodeStatus]) -> bool {
+    a.iter().zip(b).all(|(&x, &y)| {
+        let gap = x.gap_open() || y.gap_open();
+        let pressed = x.pressed() || y.pressed();
+        !(gap && pressed)
+    })
+}
+
+/// The patterns of the maximal cross-complementary sets of rays with these statuses (the
+/// pyramid method's candidates).
+///
+/// Cross-complementarity depends only on which entries are positive, so rays with the same
+/// positive entries are merged first (each stands for all, being compatible with itself): the
+/// graph then has one vertex per distinct sign pattern, not one per ray (a piece of a fine
+/// pyramid has thousands of rays).
+pub(crate) fn piece_patterns(statuses: &[Vec<NodeStatus>]) -> Vec<Vec<ContactPattern>> {
+    let mut signs: Vec<Vec<NodeStatus>> = statuses
+        .iter()
+        .map(|s| {
+            s.iter()
+                .map(|&x| if x.pressed() { NodeStatus::Stick } else { x })
+                .collect()
+        })
+        .collect();
+    signs.sort();
+    signs.dedup();
+    let statuses: Vec<&[NodeStatus]> = signs.iter().map(|s| s.as_slice()).collect();
+    pieces(&statuses).into_iter().map(|c| c.pattern).collect()
+}
+
+/// The maximal cross-complementary sets of rays with these statuses, each with its pattern,
+/// in canonical order (the indices are into `statuses`).
+pub(crate) fn pieces(statuses: &[&[NodeStatus]]) -> Vec<Cone> {
+    let p = statuses.len();
+    let adjacent: Vec<Vec<bool>> = (0..p)
+        .map(|i| {
+            (0..p)
+                .map(|j| i != j && cross_complementary(statuses[i], statuses[j]))
+                .collect()
+        })
+        .collect();
+    let mut cones: Vec<Cone> = maximal_cliques(p, |i, j| adjacent[i][j])
+        .into_iter()
+        .map(|members| {
+            let m = statuses.first().map_or(0, |s| s.len());
+            let pattern = (0..m)
+                .map(|k| {
+                    if members.iter().any(|&i| statuses[i][k].pressed()) {
+                        ContactPattern::Contact
+                    } else if members.iter().any(|&i| statuses[i][k].gap_open()) {
+                        ContactPattern::Separated
+                    } else {
+                        ContactPattern::Grazing
+                    }
+                })
+                .collect();
+            Cone {
+                rays: members,
+                pattern,
+            }
+        })
+        .collect();
+    cones.sort_by(|a, b| a.rays.cmp(&b.rays));
+    cones
+}
+
+/// The relative accuracy of a witness's check.
+const CHECK_TOL: f64 = 1e-8;
+
+/// Checks `(u, r)` against WP at friction coefficient `mu`: `K u = r`, `sum r_n = 1`, `u_n >= 0`,
+/// `r_n >= 0`, `u_n r_n = 0` and `||r_t_i|| <= mu r_n_i`, relative to the terms involved.
+pub fn check_solution(problem: &Problem, mu: f64, u: &[f64], r: &[f64]) -> Result<(), String> {
+    let (d, m) = (problem.dim(), problem.nodes());
+    let k = problem.stiffness();
+    let n = d * m;
+    for a in 0..n {
+        let (mut v, mut s) = (-r[a], r[a].abs());
+        for b in 0..n {
+            v += k[(a, b)] * u[b];
+            s += (k[(a, b)] * u[b]).abs();
+        }
+        if v.abs() > CHECK_TOL * s.max(f64::MIN_POSITIVE) {
+            return Err(format!(
+                "equilibrium fails in row {a}: residual {v:e} of {s:e}"
+            ));
+        }
+    }
+    let total: f64 = (0..m).map(|i| r[d * i]).sum();
+    if (total - 1.0).abs() > CHECK_TOL {
+        return Err(format!("sum r_n = {total}, not 1"));
+    }
+    let u_scale = u.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    for i in 0..m {
+        let (un, rn) = (u[d * i], r[d * i]);
+        let rt = tangential(r, d, i);
+        let node = i + 1;
+        if un < -CHECK_TOL * u_scale {
+            return Err(format!(
+                "node {node} penetrates the obstacle (u_n = {un:e})"
+            ));
+        }
+        if rn < 0.0 {
+            return Err(format!("node {node} pulls on the obstacle (r_n = {rn:e})"));
+        }
+        if rn > 0.0 && un.abs() > CHECK_TOL * u_scale {
+            return Err(format!(
+                "node {node} is pressed with an open gap (u_n = {un:e}, r_n = {rn:e})"
+            ));
+        }
+        if rt > mu * rn * (1.0 + 1e-12) + 1e-15 {
+            return Err(format!(
+                "node {node} is outside the friction cone at mu = {mu} (|r_t| = {rt:e}, r_n = {rn:e})"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// `||r_t_i||`.
+pub(crate) fn tangential(r: &[f64], d: usize, i: usize) -> f64 {
+    r[d * i + 1..d * i + d]
+        .iter()
+        .map(|x| x * x)
+        .sum::<f64>()
+        .sqrt()
+}
