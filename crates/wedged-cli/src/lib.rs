@@ -1,14 +1,15 @@
 //! The input side of the `wedged` command as a library: the readers of the problem file
-//! ([`problem_file`]), of Matrix Market stiffness files ([`mtx`]) and of Gmsh meshes ([`msh`]).
+//! ([`input::problem_file`]), of Matrix Market stiffness files ([`input::mtx`]) and of Gmsh
+//! meshes ([`input::msh`]).
 //!
 //! The binary uses them from here; the fuzz targets (`fuzz/` at the repository root) and the
 //! corpus regression test (`tests/fuzz_corpus.rs`) call their in-memory entry points
 //! ([`mtx::parse_bytes`], [`msh::parse`], [`problem_file::parse_str`]) directly. On any input
 //! these return an error, one line that names the source, and never panic.
 
-pub mod msh;
-pub mod mtx;
-pub mod problem_file;
+pub mod input;
+
+pub use input::{msh, mtx, problem_file};
 
 use std::cell::Cell;
 use std::panic::{self, AssertUnwindSafe};

@@ -10,8 +10,9 @@ use std::fmt::Write;
 
 use wedged::{Critical, CriticalStatus};
 
-use crate::critical_out::bracket_text;
-use crate::svg::{escape, px, sig4, INK};
+use crate::draw::svg::{escape, px, INK};
+use crate::report::critical::bracket_text;
+use crate::report::sig4;
 
 const WIDTH: f64 = 760.0;
 const HEIGHT: f64 = 460.0;
@@ -63,7 +64,7 @@ pub fn sweep_svg(source: &str, result: &Critical) -> String {
 }
 
 fn header(title: &str) -> String {
-    crate::svg::preamble(WIDTH, HEIGHT, title, 24.0, 32.0, 0.62)
+    crate::draw::svg::preamble(WIDTH, HEIGHT, title, 24.0, 32.0, 0.62)
 }
 
 fn message_page(title: &str, lines: &[&str]) -> String {
@@ -241,7 +242,7 @@ fn step_plot(source: &str, result: &Critical, mu_star: f64, mu_enumerated: f64) 
         let pattern: String = p
             .pattern
             .iter()
-            .map(|&c| crate::summary::pattern_code(c))
+            .map(|&c| crate::report::summary::pattern_code(c))
             .collect();
         let _ = writeln!(
             out,

@@ -43,11 +43,11 @@ use wedged::{
     Critical, CriticalInfo, CriticalSettings, CriticalStatus, NodeStatus, PatternThreshold, Problem,
 };
 
-use crate::output::{ModelJson, UndecidedJson};
-use crate::summary::{
+use crate::report::json::{ModelJson, UndecidedJson};
+use crate::report::sig4;
+use crate::report::summary::{
     codes, pattern_code, plural, seconds_text, status_code, status_legend, wrapped, PATTERN_LEGEND,
 };
-use crate::svg::sig4;
 
 /// Witness nodes listed one per line; beyond, one character per node.
 const NODE_LINES_UP_TO: usize = 24;
@@ -134,7 +134,7 @@ pub struct CriticalInfoJson {
     pub retries: u64,
     pub uncertain: u64,
     pub seconds: f64,
-    /// The process's peak resident memory ([`crate::output::peak_rss_bytes`]).
+    /// The process's peak resident memory ([`crate::report::json::peak_rss_bytes`]).
     pub peak_rss_bytes: Option<u64>,
 }
 
@@ -180,7 +180,7 @@ impl CriticalInfoJson {
             retries,
             uncertain,
             seconds,
-            peak_rss_bytes: crate::output::peak_rss_bytes(),
+            peak_rss_bytes: crate::report::json::peak_rss_bytes(),
         }
     }
 }
@@ -254,7 +254,7 @@ pub fn to_json(
     result: &Critical,
     model: Option<&Model>,
 ) -> String {
-    crate::output::layout(&CriticalReport::new(
+    crate::report::json::layout(&CriticalReport::new(
         problem, settings, source, result, model,
     ))
 }
@@ -425,7 +425,7 @@ pub fn render(
         }
     }
     for u in &result.undecided {
-        let set = crate::summary::contact_set(&u.contact);
+        let set = crate::report::summary::contact_set(&u.contact);
         let _ = writeln!(
             out,
             "WARNING: the solver could not decide the contact set {{{set}}} ({}); mu* may be \
@@ -601,7 +601,7 @@ fn thresholds_table(out: &mut String, problem: &Problem, result: &Critical) {
 fn info_lines(out: &mut String, problem: &Problem, result: &Critical) {
     let info = &result.info;
     let m = problem.nodes();
-    let memory = crate::output::peak_memory_text();
+    let memory = crate::report::json::peak_memory_text();
     let _ = writeln!(
         out,
         "info: {}, {}{memory}",

@@ -111,6 +111,38 @@ impl Answer {
     }
 }
 
+/// The exact certificate of a run: of its rays, or of its sign patterns.
+#[derive(Debug, Clone, Copy)]
+pub enum Certified<'a> {
+    Rays(&'a wedged::certify::Certificate),
+    Patterns(&'a wedged::PatternCertificate),
+}
+
+impl Certified<'_> {
+    pub fn certified(&self) -> bool {
+        match self {
+            Certified::Rays(c) => c.certified,
+            Certified::Patterns(c) => c.certified,
+        }
+    }
+
+    /// Whether the answer is also proven complete (`None`: not checked).
+    pub fn complete(&self) -> Option<bool> {
+        match self {
+            Certified::Rays(c) => c.complete,
+            // The pattern certificate proves completeness or fails.
+            Certified::Patterns(c) => Some(c.certified),
+        }
+    }
+
+    pub fn failures(&self) -> &[String] {
+        match self {
+            Certified::Rays(c) => &c.failures,
+            Certified::Patterns(c) => &c.failures,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

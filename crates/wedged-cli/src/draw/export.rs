@@ -16,11 +16,11 @@ use wedged::fe::{Configuration, Model};
 use wedged::patterns::Patterns;
 use wedged::{Enumeration, Problem};
 
-use crate::answer::Answer;
+use crate::report::answer::Answer;
 
-use crate::output::write_atomic;
-use crate::svg::svg_string;
-use crate::vtk::{vtu_bytes, View};
+use crate::draw::svg::svg_string;
+use crate::draw::vtk::{vtu_bytes, View};
+use crate::report::json::write_atomic;
 
 /// Creates `dir` (and its parents) and removes the `cone-N.<extension>` and
 /// `pattern-N.<extension>` files of an earlier run, so that the directory holds exactly this
@@ -104,7 +104,7 @@ fn write_patterns(
              slip), {separated} separated; witness margin {}",
             problem.mu(),
             status.len(),
-            crate::svg::sig4(pattern.margin)
+            crate::report::sig4(pattern.margin)
         );
         let view = View {
             mesh: model.mesh(),
@@ -171,7 +171,7 @@ fn write_cones(
              {separated} separated",
             problem.mu(),
             if cone.rays.len() == 1 { "ray" } else { "rays" },
-            crate::summary::ranges(&cone.rays),
+            crate::report::summary::ranges(&cone.rays),
             status.len()
         );
         let view = View {

@@ -60,7 +60,7 @@ use wedged::fe::Model;
 use wedged::patterns::{PatternInfo, Undecided};
 use wedged::{Info, Outcome, Problem};
 
-use crate::answer::{Answer, Choice, Piece};
+use crate::report::answer::{Answer, Choice, Piece};
 
 /// The whole JSON document.
 #[derive(Debug, Serialize)]
@@ -432,7 +432,7 @@ pub fn to_json(
     choice: &Choice,
     answer: &Answer,
     model: Option<&Model>,
-    certificate: Option<&crate::summary::Certified>,
+    certificate: Option<&crate::report::answer::Certified>,
 ) -> String {
     let mut report = Report::new(problem, choice, answer, model);
     report.certified = certificate.map(|c| c.certified());

@@ -1,0 +1,331 @@
+//! The command line (clap): subcommands, their options and help texts.
+
+use std::path::PathBuf;
+
+use clap::builder::PossibleValue;
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use wedged::patterns::{PatternMethod, DEFAULT_PYRAMID_FACES};
+use wedged::{CriticalMethod, Method};
+
+pub(crate) const EXIT_CODES: &str = "\
+Exit codes:
+  0  the run completed, whether or not wedged configurations exist
+  1  internal failure (e.g. a computed ray failed verification; a bug)
+  2  bad input or usage (unreadable or invalid problem file, bad option, unwritable --json path)
+  3  the run is incomplete: it stopped early (--time-limit, --max-rays, --max-memory, Ctrl-C), or
+     the conic solver could not decide some contact sets (pattern methods; the summary warns
+     about each). The summary and the JSON say so (\"complete\": false); what was not finished
+     is neither claimed nor ruled out";
+
+pub(crate) const PROBLEM_FILE: &str = "\
+Problem file (TOML), a condensed stiffness:
+  dim = 2                      # space dimension, 2 or 3 (3: sign patterns, --method bnb)
+  mu = 0.8                     # friction coefficient, > 0
+  [stiffness]                  # K on the contact nodes, local frames, normal first
+                               #   (2D: n, t per node; 3D: n, t1, t2)
+  matrix_market = \"K.mtx\"      # relative to the TOML file's directory, or:
+  # rows = [[2.0, 1.0], [1.0, 1.0]]
+
+or a meshed body, condensed onto its contact nodes:
+  mu = 0.8
+  [mesh]
+  gmsh = \"plug.msh\"            # Gmsh MSH 4.1 (ASCII or binary), physical groups by name; or:
+  # [mesh.generate]            # a built-in body:
+  # kind = \"plug2d\"            #   bottom_width, top_width, height, nx, ny, element = quad|tri
+  #                            # 3D: vgroove3d: bottom_width, top_width, height, length, nx,
+  #                            #   ny, nz, element = hex|tet;  frustum3d: bottom_width,
+  #                            #   top_width, height, n, nz, element = hex|tet
+  [material]
+  young = 210e9
+  poisson = 0.3
+  plane = \"strain\"             # 2D: strain | stress
+  [[contact]]                  # contact candidates against a rigid obstacle along the surface
+  group = \"contact\"            # optional: normal = [nx, ny(, nz)], the body's inward normal
+  [[clamp]]                    # zero displacement
+  group = \"top\"
+  # [[symmetry]]               # roller: zero displacement along the group's normal
+  # group = \"axis\"";
+
+pub(crate) const CRITICAL_HELP: &str = "\
+The critical friction coefficient mu* is the least friction coefficient at which the body can stay
+wedged (a nontrivial equilibrium without load). It is reported as a bracket [lower, upper]: a
+wedged configuration exists at upper (checked against the wedged problem; mu* = upper), and none
+exists below lower (certified by checked infeasibility certificates of the conic solver). The
+width actually certified normally reaches --tol; where it cannot (now and then in 3D), it stops
+at about 1e-7 relative (the solver's resolution), and the summary says so. \"never\"
+(certified: no friction coefficient wedges the body) is a result, exit code 0. The problem
+file's mu is not needed; --method enumerate starts its enumeration there (or at 1) and doubles
+it until something wedges.";
+
+/// Enumerate the wedged configurations of an elastic body in frictional contact with a rigid
+/// obstacle: every equilibrium without load in which the body stays deformed.
+#[derive(Debug, Parser)]
+#[command(name = "wedged", version, after_help = EXIT_CODES)]
+pub(crate) struct Cli {
+    #[command(subcommand)]
+    pub(crate) command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub(crate) enum Command {
+    /// Enumerate the wedged configurations of the problem in a TOML file.
+    #[command(after_help = EXIT_CODES, after_long_help = format!("{PROBLEM_FILE}\n\n{EXIT_CODES}"))]
+    Enumerate(EnumerateArgs),
+    /// Condense a meshed body onto its contact nodes and export the stiffness (Matrix Market).
+    #[command(after_help = EXIT_CODES, after_long_help = format!("{PROBLEM_FILE}\n\n{EXIT_CODES}"))]
+    Condense(CondenseArgs),
+    /// Compute the critical friction coefficient mu*: the least mu at which the body can stay
+    /// wedged, with a certified bracket and a wedged configuration at its upper end.
+    #[command(
+        after_help = EXIT_CODES,
+        after_long_help = format!("{CRITICAL_HELP}\n\n{PROBLEM_FILE}\n\n{EXIT_CODES}")
+    )]
+    Critical(CriticalArgs),
+    /// Plot how many maximal patterns are realised against mu: each pattern's own threshold
+    /// (from the enumeration at a large mu), and mu*, the least of them.
+    #[command(
+        after_help = EXIT_CODES,
+        after_long_help = format!("{CRITICAL_HELP}\n\n{PROBLEM_FILE}\n\n{EXIT_CODES}")
+    )]
+    Sweep(SweepArgs),
+    /// Run the built-in example: a 2D plug wedged in a V-notch, with JSON, VTU and SVG output,
+    /// and its critical friction coefficient.
+    #[command(after_help = EXIT_CODES)]
+    Demo(DemoArgs),
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct CriticalArgs {
+    /// The problem file (TOML; see --help for its format; its `mu` is optional).
+    pub(crate) problem: PathBuf,
+    /// Algorithm [default: bnb].
+    #[arg(long, value_name = "METHOD")]
+    pub(crate) method: Option<CriticalMethodArg>,
+    /// Re-check the answer in exact rational arithmetic: every infeasibility certificate behind
+    /// `lower` and the witness at `upper` (bnb and faces; enumerate's lower end rests on a
+    /// floating-point enumeration and is reported as not certified). Exit code 1 if a check
+    /// fails.
+    #[arg(long)]
+    pub(crate) certify: bool,
+    #[command(flatten)]
+    pub(crate) common: CriticalCommon,
+    #[command(flatten)]
+    pub(crate) json: JsonArg,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct SweepArgs {
+    /// The problem file (TOML; see --help for its format; its `mu`, when given, is where the
+    /// enumeration starts).
+    pub(crate) problem: PathBuf,
+    /// Write the step plot here (SVG, written atomically).
+    #[arg(long, value_name = "PLOT.svg")]
+    pub(crate) svg: PathBuf,
+    #[command(flatten)]
+    pub(crate) common: CriticalCommon,
+    #[command(flatten)]
+    pub(crate) json: JsonArg,
+}
+
+/// The options that `critical` and `sweep` share.
+#[derive(Debug, Args)]
+pub(crate) struct CriticalCommon {
+    /// Relative width asked of the bracket of mu*, from 1e-12 to 0.1 [default: 1e-9].
+    #[arg(long, value_name = "T", allow_negative_numbers = true)]
+    pub(crate) tol: Option<f64>,
+    /// Stop after this many seconds (the result is then marked incomplete; exit code 3).
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub(crate) time_limit: Option<f64>,
+}
+
+/// A [`CriticalMethod`] as a command-line value, named by its `name()`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct CriticalMethodArg(pub(crate) CriticalMethod);
+
+impl ValueEnum for CriticalMethodArg {
+    fn value_variants<'a>() -> &'a [Self] {
+        &[
+            CriticalMethodArg(CriticalMethod::Bnb),
+            CriticalMethodArg(CriticalMethod::Enumerate),
+            CriticalMethodArg(CriticalMethod::Faces),
+        ]
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        let help = match self.0 {
+            CriticalMethod::Bnb => "branch and bound over contact sets with an incumbent",
+            CriticalMethod::Enumerate => {
+                "the maximal patterns at a large mu, then each one's threshold (as `sweep`)"
+            }
+            CriticalMethod::Faces => "every contact set, each threshold by bisection (m <= 12)",
+        };
+        Some(PossibleValue::new(self.0.name()).help(help))
+    }
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct EnumerateArgs {
+    /// The problem file (TOML; see --help for its format).
+    pub(crate) problem: PathBuf,
+    /// Friction coefficient, overriding the file's `mu`.
+    #[arg(long, value_name = "MU", allow_negative_numbers = true)]
+    pub(crate) mu: Option<f64>,
+    /// Algorithm [default: pruned-dd for a 2D problem, bnb for a 3D one]. The ray methods
+    /// (pruned-dd, full-dd, faces, exact) list the complementary extreme rays and the cones of a
+    /// 2D problem; the pattern methods (bnb, pyramid, pattern-faces) list the maximal sign patterns
+    /// (the convex pieces, each with a witness) of a 2D or 3D problem.
+    #[arg(long, value_name = "METHOD")]
+    pub(crate) method: Option<MethodArg>,
+    /// Faces of the pyramid that replaces the round friction cone in --method pyramid, 3 to 64
+    /// [default: 8]. Only --method pyramid uses it (and only in 3D).
+    #[arg(long, value_name = "K", allow_negative_numbers = true)]
+    pub(crate) pyramid_faces: Option<i64>,
+    /// Relative zero tolerance of the enumeration [default: 1e-9].
+    #[arg(long, value_name = "T", allow_negative_numbers = true)]
+    pub(crate) zero_tol: Option<f64>,
+    /// Stop after this many seconds (the result is then marked incomplete; exit code 3).
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub(crate) time_limit: Option<f64>,
+    /// Stop when more than this many rays would be held at once (a memory bound: a ray of an
+    /// m-node problem takes about 16 m bytes; ray methods and pyramid); the result is then
+    /// marked incomplete.
+    #[arg(long, value_name = "N")]
+    pub(crate) max_rays: Option<usize>,
+    /// Stop when the rays held would take more than this much memory: bytes, or with a unit
+    /// (500M, 2G, 1.5GB; powers of 1000; ray methods and pyramid); the result is then marked
+    /// incomplete.
+    #[arg(long, value_name = "SIZE", value_parser = parse_size)]
+    pub(crate) max_memory: Option<u64>,
+    #[command(flatten)]
+    pub(crate) json: JsonArg,
+    /// For a meshed body: write one ParaView file per wedged cone, DIR/cone-N.vtu, or with a
+    /// pattern method per maximal pattern, DIR/pattern-N.vtu (old cone-N.vtu and pattern-N.vtu
+    /// files in DIR are removed).
+    #[arg(long, value_name = "DIR")]
+    pub(crate) vtk: Option<PathBuf>,
+    /// For a meshed body: write one picture per wedged cone, DIR/cone-N.svg, or with a pattern
+    /// method per maximal pattern, DIR/pattern-N.svg (old cone-N.svg and pattern-N.svg files in
+    /// DIR are removed).
+    #[arg(long, value_name = "DIR")]
+    pub(crate) svg: Option<PathBuf>,
+    /// Certify the answer in exact rational arithmetic. A 2D ray method (pruned-dd, full-dd,
+    /// faces, exact): each ray recomputed from its status, checked extreme, feasible with
+    /// exactly its status and complementary, and compared with the floating-point ray; each
+    /// cone's rays checked cross-complementary (completeness checked up to 8 nodes; --exact
+    /// gives a provably complete answer). A pattern method (bnb, pattern-faces; 2D or 3D): each
+    /// pattern's witness recomputed exactly and checked, and every decision of the search
+    /// backed by an infeasibility certificate checked exactly, which proves the patterns are
+    /// all the maximal ones (the pyramid method's candidates are not certified). A failure is
+    /// reported and the exit code is 1.
+    #[arg(long)]
+    pub(crate) certify: bool,
+    /// Run the whole 2D enumeration in exact rational arithmetic (the same as --method exact):
+    /// K and mu taken as the rationals their f64s are, every sign decided exactly, so the rays,
+    /// their statuses and the cones are provably all of them. Slower than pruned-dd.
+    #[arg(long)]
+    pub(crate) exact: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct CondenseArgs {
+    /// The problem file (TOML with a [mesh]; see --help).
+    pub(crate) problem: PathBuf,
+    /// Write the condensed stiffness here (Matrix Market, coordinate real symmetric; written
+    /// atomically). Its comment lines name each contact node's mesh node and frame.
+    #[arg(long, value_name = "K.mtx")]
+    pub(crate) mtx: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct DemoArgs {
+    /// Directory for the demo's JSON, VTU and SVG files.
+    #[arg(long, value_name = "DIR", default_value = "wedged-demo")]
+    pub(crate) out: PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct JsonArg {
+    /// Also write the full result as JSON to this file (written atomically); `-` writes the JSON
+    /// to stdout instead of the summary.
+    #[arg(long, value_name = "OUT.json")]
+    pub(crate) json: Option<PathBuf>,
+}
+
+/// A ray [`Method`] or a [`PatternMethod`] as a command-line value, named by their `name()`.
+/// The pyramid's number of faces comes from `--pyramid-faces`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum MethodArg {
+    Rays(Method),
+    Patterns(PatternMethod),
+}
+
+impl MethodArg {
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            MethodArg::Rays(m) => m.name(),
+            MethodArg::Patterns(m) => m.name(),
+        }
+    }
+}
+
+impl ValueEnum for MethodArg {
+    fn value_variants<'a>() -> &'a [Self] {
+        &[
+            MethodArg::Rays(Method::PrunedDd),
+            MethodArg::Rays(Method::FullDd),
+            MethodArg::Rays(Method::Faces),
+            MethodArg::Rays(Method::Exact),
+            MethodArg::Patterns(PatternMethod::Bnb),
+            MethodArg::Patterns(PatternMethod::Pyramid {
+                faces: DEFAULT_PYRAMID_FACES,
+            }),
+            MethodArg::Patterns(PatternMethod::Faces),
+        ]
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        let help = match self {
+            MethodArg::Rays(Method::PrunedDd) => "2D rays: the seed's pruned double description",
+            MethodArg::Rays(Method::FullDd) => {
+                "2D rays: every extreme ray by double description, then a filter"
+            }
+            MethodArg::Rays(Method::Faces) => {
+                "2D rays: brute force over the 2^m contact sets (small m only)"
+            }
+            MethodArg::Rays(Method::Exact) => {
+                "2D rays: double description in exact rational arithmetic (as --exact)"
+            }
+            MethodArg::Patterns(PatternMethod::Bnb) => {
+                "patterns (2D, 3D): branch and bound with conic relaxations"
+            }
+            MethodArg::Patterns(PatternMethod::Pyramid { .. }) => {
+                "patterns (2D, 3D): the 2D algorithm on a pyramid around the friction cone, \
+                 candidates checked exactly"
+            }
+            MethodArg::Patterns(PatternMethod::Faces) => {
+                "patterns (2D, 3D): brute force over the 2^m contact sets (m <= 12)"
+            }
+        };
+        Some(PossibleValue::new(self.name()).help(help))
+    }
+}
+
+/// A memory size: a number of bytes, or a number with `k`, `M`, `G` or `T` (powers of 1000),
+/// optionally followed by `B`: `500M`, `2G`, `1.5GB`.
+pub(crate) fn parse_size(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let t = t.strip_suffix(['B', 'b']).unwrap_or(t);
+    let (number, factor) = match t.chars().last() {
+        Some('k' | 'K') => (&t[..t.len() - 1], 1e3),
+        Some('m' | 'M') => (&t[..t.len() - 1], 1e6),
+        Some('g' | 'G') => (&t[..t.len() - 1], 1e9),
+        Some('t' | 'T') => (&t[..t.len() - 1], 1e12),
+        _ => (t, 1.0),
+    };
+    match number.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 && x * factor < 1.8e19 => Ok((x * factor) as u64),
+        _ => Err(format!(
+            "expected a positive size such as 500M, 2G or 1500000000, got {text:?}"
+        )),
+    }
+}

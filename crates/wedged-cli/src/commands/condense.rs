@@ -1,0 +1,25 @@
+//! `wedged condense`: a mesh problem condensed onto its contact nodes, written as Matrix Market.
+
+use super::*;
+use crate::args::*;
+use crate::report::json as output;
+use crate::report::summary;
+use wedged_cli::{mtx, problem_file};
+
+pub(crate) fn run_condense(args: CondenseArgs) -> Result<(), Failure> {
+    let source = args.problem.display().to_string();
+    let model =
+        problem_file::load_model(&args.problem).map_err(|e| Failure::Input(e.to_string()))?;
+    let mut text = summary::model(&source, &model);
+    if let Some(path) = &args.mtx {
+        let bytes = mtx::write_condensed(&model, &source);
+        output::write_atomic(path, bytes.as_bytes(), "Matrix Market file")
+            .map_err(|e| Failure::Input(e.to_string()))?;
+        text.push_str(&format!(
+            "condensed stiffness ({n} x {n}) written to {}\n",
+            path.display(),
+            n = model.k().nrows()
+        ));
+    }
+    write_stdout(&text)
+}

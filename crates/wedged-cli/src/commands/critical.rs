@@ -1,0 +1,242 @@
+//! `wedged critical` and `wedged sweep`: the critical friction coefficient `mu*` with its
+//! bracket, and its step plot.
+
+use std::io::{self, IsTerminal};
+use std::path::Path;
+
+use wedged::fe::Model;
+use wedged::{
+    critical_with_control, Critical, CriticalMethod, CriticalProgress, CriticalSettings,
+    CriticalStatus, EnumerateError, Problem, Stop,
+};
+
+use super::*;
+use crate::args::*;
+use crate::draw::sweep_svg;
+use crate::report::json::{JsonTarget, PendingFile};
+use crate::report::{critical as critical_out, summary};
+use wedged_cli::problem_file;
+
+/// What `critical` and `sweep` read and where they write.
+pub(crate) struct CriticalJob<'a> {
+    problem: Problem,
+    model: Option<Model>,
+    file_mu: Option<f64>,
+    settings: CriticalSettings,
+    source: String,
+    json: Option<&'a Path>,
+    svg: Option<&'a Path>,
+}
+
+/// Loads the problem of `critical` or `sweep` and checks the options (the library checks --tol).
+pub(crate) fn critical_job<'a>(
+    problem: &Path,
+    method: CriticalMethod,
+    certify: bool,
+    common: &CriticalCommon,
+    json: Option<&'a Path>,
+    svg: Option<&'a Path>,
+) -> Result<CriticalJob<'a>, Failure> {
+    let limits = time_limits(common.time_limit)?;
+    let (loaded, mu_given) =
+        problem_file::load_for_critical(problem).map_err(|e| Failure::Input(e.to_string()))?;
+    Ok(CriticalJob {
+        file_mu: mu_given.then(|| loaded.problem.mu()),
+        problem: loaded.problem,
+        model: loaded.model,
+        settings: CriticalSettings {
+            method,
+            tol: common.tol.unwrap_or(wedged::critical::DEFAULT_TOL),
+            limits,
+            certify,
+        },
+        source: problem.display().to_string(),
+        json,
+        svg,
+    })
+}
+
+pub(crate) fn run_critical(args: CriticalArgs) -> Result<(), Failure> {
+    let method = args.method.map_or(CriticalMethod::Bnb, |m| m.0);
+    if args.certify && method == CriticalMethod::Enumerate {
+        return Err(Failure::Input(
+            "--certify needs --method bnb or faces: the enumerate method's lower end rests on \
+             a floating-point enumeration of patterns, which is not certified"
+                .to_string(),
+        ));
+    }
+    let job = critical_job(
+        &args.problem,
+        method,
+        args.certify,
+        &args.common,
+        args.json.json.as_deref(),
+        None,
+    )?;
+    report_critical(job)
+}
+
+pub(crate) fn run_sweep(args: SweepArgs) -> Result<(), Failure> {
+    let job = critical_job(
+        &args.problem,
+        CriticalMethod::Enumerate,
+        false,
+        &args.common,
+        args.json.json.as_deref(),
+        Some(&args.svg),
+    )?;
+    report_critical(job)
+}
+
+/// Computes `mu*` and writes the summary, the JSON and (sweep) the plot. The JSON and SVG targets
+/// are opened before the run, so that an unwritable path fails before a long computation.
+pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
+    let CriticalJob {
+        problem,
+        model,
+        file_mu,
+        settings,
+        source,
+        json,
+        svg,
+    } = job;
+    let json = json
+        .map(JsonTarget::open)
+        .transpose()
+        .map_err(|e| Failure::Input(e.to_string()))?;
+    let svg = svg
+        .map(|path| PendingFile::open(path, "SVG file"))
+        .transpose()
+        .map_err(|e| Failure::Input(e.to_string()))?;
+    let result = run_critical_library(&problem, &settings, &source)?;
+    let json_text = json
+        .as_ref()
+        .map(|_| critical_out::to_json(&problem, &settings, &source, &result, model.as_ref()));
+    let incomplete = match result.status {
+        CriticalStatus::Incomplete(stop) => Some(stop),
+        _ => None,
+    };
+    let mut stdout_text = String::new();
+    let mut svg_line = String::new();
+    if let Some(target) = svg {
+        let path = target.path().display().to_string();
+        if incomplete.is_some() {
+            // Dropped uncommitted: its temporary file goes, and no plot claims anything.
+            svg_line = format!("the run is incomplete, so no plot was written to {path}\n");
+        } else {
+            target
+                .commit(sweep_svg::sweep_svg(&source, &result).as_bytes())
+                .map_err(|e| Failure::Input(e.to_string()))?;
+            svg_line = match result.status {
+                CriticalStatus::Never => format!(
+                    "the body never wedges, so the plot written to {path} says so instead of \
+                     plotting\n"
+                ),
+                _ if result.thresholds.is_empty() => {
+                    format!("no pattern thresholds to plot; {path} says why\n")
+                }
+                _ => format!("plot of the patterns realised against mu written to {path}\n"),
+            };
+        }
+    }
+    match (&json, &json_text) {
+        (Some(JsonTarget::Stdout), Some(text)) => stdout_text.push_str(text),
+        _ => {
+            let json_path = match &json {
+                Some(JsonTarget::File { path, .. }) => Some(path.as_path()),
+                _ => None,
+            };
+            if let Some(model) = &model {
+                stdout_text.push_str(&summary::model(&source, model));
+            }
+            stdout_text.push_str(&critical_out::render(
+                &problem, &settings, &source, file_mu, &result, json_path,
+            ));
+            stdout_text.push_str(&svg_line);
+        }
+    }
+    if let (Some(target @ JsonTarget::File { .. }), Some(text)) = (json, &json_text) {
+        target
+            .commit(text)
+            .map_err(|e| Failure::Input(e.to_string()))?;
+    }
+    write_stdout(&stdout_text)?;
+    if let Some(c) = result.certificate.as_ref().filter(|c| !c.certified) {
+        return Err(Failure::Internal(format!(
+            "{source}: exact certification of mu* failed ({}; first: {})",
+            match c.failures.len() {
+                1 => "1 check".to_string(),
+                n => format!("{n} checks"),
+            },
+            c.failures.first().map_or("", String::as_str)
+        )));
+    }
+    match incomplete {
+        Some(stop) => Err(Failure::Incomplete(critical_incomplete_text(
+            &source, &result, stop,
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// The `incomplete: ...` line of an incomplete `critical` or `sweep` run.
+pub(crate) fn critical_incomplete_text(source: &str, result: &Critical, stop: Stop) -> String {
+    let found = match result.upper {
+        Some(upper) => format!(
+            "mu* <= {} (a checked wedged configuration), not certified from below",
+            critical_out::bound(upper, 10, critical_out::Round::Up)
+        ),
+        None => "no wedged configuration found, nothing claimed about mu*".to_string(),
+    };
+    if stop == Stop::Undecided {
+        format!(
+            "{source}: {stop} ({} undecided, listed in the summary and the JSON); {found}; the \
+             result is incomplete",
+            result.undecided.len()
+        )
+    } else {
+        format!("{source}: {stop}; {found}; the result is incomplete")
+    }
+}
+
+/// Runs the computation of `mu*` with the live progress line and sorts its errors into bad input
+/// and internal failures.
+pub(crate) fn run_critical_library(
+    problem: &Problem,
+    settings: &CriticalSettings,
+    source: &str,
+) -> Result<Critical, Failure> {
+    let start = std::time::Instant::now();
+    let live = io::stderr().is_terminal();
+    let shown = std::cell::Cell::new(false);
+    let progress = |p: CriticalProgress| {
+        if live && start.elapsed().as_secs_f64() > 1.0 {
+            eprint!(
+                "\r  {}   ",
+                critical_progress_text(p, start.elapsed().as_secs_f64())
+            );
+            shown.set(true);
+        }
+    };
+    let result = critical_with_control(problem, settings, &progress, &INTERRUPTED);
+    if shown.get() {
+        eprintln!();
+    }
+    result.map_err(|e| match e {
+        EnumerateError::InvalidSettings(m) => Failure::Input(format!("invalid option: {m}")),
+        e @ EnumerateError::UnsupportedDim(_) => Failure::Input(format!("{source}: {e}")),
+        e @ EnumerateError::Internal(_) => Failure::Internal(format!("{source}: {e}")),
+    })
+}
+
+/// The live progress line of `critical` and `sweep` (without its carriage return).
+pub(crate) fn critical_progress_text(p: CriticalProgress, seconds: f64) -> String {
+    let best = match p.upper {
+        Some(mu) => format!("best mu {}", crate::report::sig4(mu)),
+        None => "no wedged configuration yet".to_string(),
+    };
+    format!(
+        "explored {:.1}%, {best}, {seconds:.1} s",
+        100.0 * p.explored.clamp(0.0, 1.0)
+    )
+}

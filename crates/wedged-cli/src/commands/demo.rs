@@ -1,0 +1,56 @@
+//! `wedged demo`: the built-in plug, end to end.
+
+use std::fs;
+use wedged::{CriticalSettings, CriticalStatus, Problem, Settings};
+
+use super::*;
+use crate::args::*;
+use crate::report::answer::Choice;
+use crate::report::critical as critical_out;
+
+pub(crate) fn run_demo(args: DemoArgs) -> Result<(), Failure> {
+    let (model, mu) = wedged::examples::plug2d_demo()
+        .map_err(|e| Failure::Internal(format!("the demo model: {e}")))?;
+    let problem = Problem::new(2, model.k().clone(), mu)
+        .map_err(|e| Failure::Internal(format!("the demo model: {e}")))?;
+    let dir = &args.out;
+    let preface = format!(
+        "demo: a 2D elastic plug (plane strain) in a V-notch, its top clamped, its slanted sides \
+         against the notch walls\n(wedged::examples::plug2d_demo); mu = {mu}. Use `wedged \
+         enumerate FILE.toml` for your own problem."
+    );
+    fs::create_dir_all(dir).map_err(|e| {
+        Failure::Input(format!(
+            "{}: cannot create the demo directory: {e}",
+            dir.display()
+        ))
+    })?;
+    let json = dir.join("result.json");
+    report(
+        &problem,
+        &Choice::Rays(Settings::default()),
+        "demo",
+        Some(&model),
+        Outputs {
+            preface: Some(&preface),
+            json: Some(&json),
+            vtk: Some(dir),
+            svg: Some(dir),
+            certify: false,
+        },
+    )?;
+    // The same plug's mu*, by branch and bound.
+    let settings = CriticalSettings::default();
+    let result = run_critical_library(&problem, &settings, "demo")?;
+    let line = match critical_out::answer_line(&result, settings.tol) {
+        Some(answer) => format!("\ncritical friction coefficient: {answer}\n"),
+        None => format!(
+            "\ncritical friction coefficient: not found ({})\n",
+            match result.status {
+                CriticalStatus::Incomplete(stop) => stop.to_string(),
+                _ => "no answer".to_string(),
+            }
+        ),
+    };
+    write_stdout(&line)
+}

@@ -1,0 +1,339 @@
+//! `wedged enumerate`: the rays and cones (2D) or the sign patterns (2D and 3D) of a problem,
+//! the summary, the JSON, the per-piece files.
+
+use std::io::{self, IsTerminal};
+use std::path::Path;
+
+use wedged::certify::certify_enumeration;
+use wedged::fe::Model;
+use wedged::patterns::{
+    enumerate_patterns_with_control, PatternMethod, PatternSettings, DEFAULT_PYRAMID_FACES,
+};
+use wedged::{enumerate_with_control, EnumerateError, Method, Problem, Progress, Settings, Stop};
+
+use super::*;
+use crate::args::*;
+use crate::draw::export;
+use crate::report::answer::{Answer, Choice};
+use crate::report::json as output;
+use crate::report::json::JsonTarget;
+use crate::report::summary;
+use wedged_cli::problem_file;
+
+pub(crate) fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
+    let source = args.problem.display().to_string();
+    let faces = match args.pyramid_faces {
+        None => None,
+        Some(k) if (3..=64).contains(&k) => Some(k as usize),
+        Some(k) => {
+            return Err(Failure::Input(format!(
+                "--pyramid-faces must be from 3 to 64, got {k}"
+            )))
+        }
+    };
+    let loaded = problem_file::load(&args.problem, args.mu.is_some())
+        .map_err(|e| Failure::Input(e.to_string()))?;
+    let problem = match args.mu {
+        Some(mu) => loaded
+            .problem
+            .with_mu(mu)
+            .map_err(|e| Failure::Input(format!("--mu: {e}")))?,
+        None => loaded.problem,
+    };
+    let mut limits = time_limits(args.time_limit)?;
+    limits.max_rays = args.max_rays;
+    limits.max_memory = args.max_memory;
+    if args.exact {
+        if let Some(other) = args.method.filter(|&m| m != MethodArg::Rays(Method::Exact)) {
+            return Err(Failure::Input(format!(
+                "--exact runs the exact 2D ray enumeration (--method exact); it cannot be \
+                 combined with --method {}",
+                other.name()
+            )));
+        }
+        if problem.dim() != 2 {
+            return Err(Failure::Input(format!(
+                "{source}: dim = {}: --exact enumerates the rays of a 2D problem; a 3D problem \
+                 has sign patterns instead (--method bnb or pyramid)",
+                problem.dim()
+            )));
+        }
+    }
+    let method = match args.method {
+        Some(m) => m,
+        None if args.exact => MethodArg::Rays(Method::Exact),
+        None if problem.dim() == 2 => MethodArg::Rays(Method::PrunedDd),
+        None => MethodArg::Patterns(PatternMethod::Bnb),
+    };
+    if faces.is_some() && !matches!(method, MethodArg::Patterns(PatternMethod::Pyramid { .. })) {
+        return Err(Failure::Input(format!(
+            "--pyramid-faces is used by --method pyramid only, and the method is {}",
+            method.name()
+        )));
+    }
+    let mut choice = match method {
+        MethodArg::Rays(m) if problem.dim() != 2 => {
+            return Err(Failure::Input(format!(
+                "{source}: dim = {}: --method {} lists rays, which only a 2D problem has; use \
+                 --method bnb (the default in 3D) or --method pyramid",
+                problem.dim(),
+                m.name()
+            )))
+        }
+        MethodArg::Rays(method) => Choice::Rays(Settings {
+            method,
+            limits,
+            ..Settings::default()
+        }),
+        MethodArg::Patterns(PatternMethod::Pyramid { .. }) => Choice::Patterns(PatternSettings {
+            method: PatternMethod::Pyramid {
+                faces: faces.unwrap_or(DEFAULT_PYRAMID_FACES),
+            },
+            limits,
+            certify: args.certify,
+            ..PatternSettings::default()
+        }),
+        MethodArg::Patterns(method) => Choice::Patterns(PatternSettings {
+            method,
+            limits,
+            certify: args.certify,
+            ..PatternSettings::default()
+        }),
+    };
+    if let Some(t) = args.zero_tol {
+        match &mut choice {
+            Choice::Rays(s) => s.zero_tol = t,
+            Choice::Patterns(s) => s.zero_tol = t,
+        }
+    }
+    if loaded.model.is_none() {
+        for (given, option) in [(args.vtk.is_some(), "--vtk"), (args.svg.is_some(), "--svg")] {
+            if given {
+                return Err(Failure::Input(format!(
+                    "{option} needs a meshed body ([mesh] in the problem file); {source} gives \
+                     a condensed stiffness only"
+                )));
+            }
+        }
+    }
+    report(
+        &problem,
+        &choice,
+        &source,
+        loaded.model.as_ref(),
+        Outputs {
+            preface: None,
+            json: args.json.json.as_deref(),
+            vtk: args.vtk.as_deref(),
+            svg: args.svg.as_deref(),
+            certify: args.certify,
+        },
+    )
+}
+
+/// Where a run's results go besides the summary on stdout.
+pub(crate) struct Outputs<'a> {
+    pub(crate) preface: Option<&'a str>,
+    pub(crate) json: Option<&'a Path>,
+    pub(crate) vtk: Option<&'a Path>,
+    pub(crate) svg: Option<&'a Path>,
+    /// `--certify`: certify a ray method's answer in exact rational arithmetic (a pattern
+    /// method certifies during its run, from its settings).
+    pub(crate) certify: bool,
+}
+
+/// Enumerates and writes the summary and the JSON. The JSON target is opened before the run, so
+/// that an unwritable path fails before a long computation.
+pub(crate) fn report(
+    problem: &Problem,
+    choice: &Choice,
+    source: &str,
+    model: Option<&Model>,
+    outputs: Outputs,
+) -> Result<(), Failure> {
+    let Outputs {
+        preface,
+        json,
+        vtk,
+        svg,
+        certify,
+    } = outputs;
+    let json = json
+        .map(JsonTarget::open)
+        .transpose()
+        .map_err(|e| Failure::Input(e.to_string()))?;
+    if let Some(dir) = vtk {
+        export::prepare_dir(dir, "--vtk", "vtu").map_err(Failure::Input)?;
+    }
+    if let Some(dir) = svg {
+        export::prepare_dir(dir, "--svg", "svg").map_err(Failure::Input)?;
+    }
+    let answer = run_library(problem, choice, source)?;
+    let rays_certificate = match (&answer, certify) {
+        (Answer::Rays(result), true) => Some(certify_enumeration(problem, result)),
+        _ => None,
+    };
+    let certificate = match &answer {
+        Answer::Rays(_) => rays_certificate
+            .as_ref()
+            .map(crate::report::answer::Certified::Rays),
+        Answer::Patterns(p) => p
+            .certificate
+            .as_ref()
+            .map(crate::report::answer::Certified::Patterns),
+    };
+    let json_text = json
+        .as_ref()
+        .map(|_| output::to_json(problem, choice, &answer, model, certificate.as_ref()));
+    let incomplete = answer.stopped();
+    let written = match model {
+        Some(model) if (vtk.is_some() || svg.is_some()) && incomplete.is_none() => {
+            export::write_pieces(model, problem, &answer, vtk, svg).map_err(Failure::Input)?
+        }
+        _ => Vec::new(),
+    };
+    let mut stdout_text = String::new();
+    match (&json, &json_text) {
+        (Some(JsonTarget::Stdout), Some(text)) => stdout_text.push_str(text),
+        _ => {
+            if let Some(p) = preface {
+                stdout_text.push_str(p);
+                stdout_text.push('\n');
+            }
+            let json_path = match &json {
+                Some(JsonTarget::File { path, .. }) => Some(path.as_path()),
+                _ => None,
+            };
+            if let Some(model) = model {
+                stdout_text.push_str(&summary::model(source, model));
+            }
+            stdout_text.push_str(&summary::render(
+                problem, choice, source, &answer, json_path,
+            ));
+            if let Some(c) = &certificate {
+                stdout_text.push_str(&summary::certification(c));
+            }
+            stdout_text.push_str(&summary::files(&answer, vtk, svg, &written));
+        }
+    }
+    if let (Some(target @ JsonTarget::File { .. }), Some(text)) = (json, &json_text) {
+        target
+            .commit(text)
+            .map_err(|e| Failure::Input(e.to_string()))?;
+    }
+    write_stdout(&stdout_text)?;
+    if let Some(c) = certificate.as_ref().filter(|c| !c.certified()) {
+        let failures = c.failures();
+        return Err(Failure::Internal(format!(
+            "{source}: exact certification failed ({}; first: {}): the floating-point answer \
+             cannot be trusted",
+            match failures.len() {
+                1 => "1 check".to_string(),
+                n => format!("{n} checks"),
+            },
+            failures.first().map_or("", String::as_str)
+        )));
+    }
+    match incomplete {
+        Some(stop) => Err(Failure::Incomplete(incomplete_text(
+            source, problem, &answer, stop,
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// The `incomplete: ...` line of an incomplete run.
+pub(crate) fn incomplete_text(
+    source: &str,
+    problem: &Problem,
+    answer: &Answer,
+    stop: Stop,
+) -> String {
+    match answer {
+        Answer::Rays(result) => format!(
+            "{source}: {stop} after {} of {} nodes; the result is incomplete",
+            result.info.rays_after_node.len(),
+            problem.nodes()
+        ),
+        Answer::Patterns(result) if stop == Stop::Undecided => format!(
+            "{source}: {stop} ({} undecided, listed in the summary and the JSON); the patterns \
+             below them may be missing, so the result is incomplete",
+            result.undecided.len()
+        ),
+        Answer::Patterns(result) => format!(
+            "{source}: {stop} with {} found so far; the result is incomplete",
+            match result.patterns.len() {
+                1 => "1 maximal pattern".to_string(),
+                n => format!("{n} maximal patterns"),
+            }
+        ),
+    }
+}
+
+/// Runs the enumeration and sorts its errors into bad input and internal failures.
+pub(crate) fn run_library(
+    problem: &Problem,
+    choice: &Choice,
+    source: &str,
+) -> Result<Answer, Failure> {
+    // A live progress line on stderr, only for a person at a terminal and only once the run has
+    // lasted a second: pipes, files and CI logs stay clean.
+    let start = std::time::Instant::now();
+    let live = io::stderr().is_terminal();
+    let shown = std::cell::Cell::new(false);
+    let progress = |p: Progress| {
+        if live && start.elapsed().as_secs_f64() > 1.0 {
+            eprint!(
+                "\r  {}   ",
+                progress_text(choice, p, start.elapsed().as_secs_f64())
+            );
+            shown.set(true);
+        }
+    };
+    let result = match choice {
+        Choice::Rays(settings) => {
+            enumerate_with_control(problem, settings, &progress, &INTERRUPTED).map(Answer::Rays)
+        }
+        Choice::Patterns(settings) => {
+            enumerate_patterns_with_control(problem, settings, &progress, &INTERRUPTED)
+                .map(Answer::Patterns)
+        }
+    };
+    if shown.get() {
+        eprintln!();
+    }
+    result.map_err(|e| match e {
+        EnumerateError::UnsupportedDim(d) => Failure::Input(format!(
+            "{source}: dim = {d}: --method {} needs a 2D problem; use --method bnb or pyramid",
+            choice.name()
+        )),
+        EnumerateError::InvalidSettings(m) => Failure::Input(format!("invalid option: {m}")),
+        e @ EnumerateError::Internal(_) => Failure::Internal(format!("{source}: {e}")),
+    })
+}
+
+/// The live progress line (without its carriage return).
+pub(crate) fn progress_text(choice: &Choice, p: Progress, seconds: f64) -> String {
+    match choice {
+        Choice::Patterns(PatternSettings {
+            method: PatternMethod::Bnb,
+            ..
+        }) => format!(
+            "explored {:.1}% of the search tree, {} found, {seconds:.1} s",
+            100.0 * p.done as f64 / p.total.max(1) as f64,
+            if p.rays == 1 {
+                "1 pattern".to_string()
+            } else {
+                format!("{} patterns", p.rays)
+            }
+        ),
+        Choice::Patterns(_) => format!(
+            "pyramid approximation, node {}/{}: {} rays held, {seconds:.1} s",
+            p.done, p.total, p.rays
+        ),
+        Choice::Rays(_) => format!(
+            "node {}/{}: {} rays held, {seconds:.1} s",
+            p.done, p.total, p.rays
+        ),
+    }
+}

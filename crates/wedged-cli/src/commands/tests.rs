@@ -1,0 +1,137 @@
+//! Tests of the command line and the commands' texts.
+
+use super::*;
+use crate::report::answer::{Answer, Choice};
+use clap::{CommandFactory, ValueEnum};
+use wedged::patterns::{PatternMethod, PatternSettings};
+use wedged::{CriticalProgress, Method, Problem, Progress, Settings, Stop};
+use wedged_cli::one_line;
+
+#[test]
+fn sizes_parse() {
+    assert_eq!(parse_size("500M"), Ok(500_000_000));
+    assert_eq!(parse_size("1.5GB"), Ok(1_500_000_000));
+    assert_eq!(parse_size("2g"), Ok(2_000_000_000));
+    assert_eq!(parse_size("1234"), Ok(1234));
+    assert_eq!(parse_size("64kB"), Ok(64_000));
+    for bad in ["", "G", "-1G", "lots", "0", "nanM", "1e30T"] {
+        assert!(parse_size(bad).is_err(), "{bad}");
+    }
+}
+
+#[test]
+fn cli_is_well_formed() {
+    Cli::command().debug_assert();
+}
+
+#[test]
+fn method_names_are_the_library_names() {
+    let names: Vec<String> = MethodArg::value_variants()
+        .iter()
+        .map(|m| m.to_possible_value().unwrap().get_name().to_string())
+        .collect();
+    let mut library: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+    library.extend(
+        [
+            PatternMethod::Bnb,
+            PatternMethod::Pyramid { faces: 8 },
+            PatternMethod::Faces,
+        ]
+        .map(PatternMethod::name),
+    );
+    assert_eq!(names, library);
+}
+
+#[test]
+fn progress_lines_name_what_they_count() {
+    let p = Progress {
+        done: 372,
+        total: 1000,
+        rays: 5,
+    };
+    let bnb = Choice::Patterns(PatternSettings::default());
+    assert_eq!(
+        progress_text(&bnb, p, 3.42),
+        "explored 37.2% of the search tree, 5 patterns found, 3.4 s"
+    );
+    let rays = Choice::Rays(Settings::default());
+    let p = Progress {
+        done: 3,
+        total: 12,
+        rays: 40,
+    };
+    assert_eq!(
+        progress_text(&rays, p, 1.0),
+        "node 3/12: 40 rays held, 1.0 s"
+    );
+}
+
+#[test]
+fn incomplete_pattern_runs_say_why_without_node_counts() {
+    use wedged::patterns::{PatternInfo, Patterns, Undecided};
+    let problem = Problem::new(3, nalgebra::DMatrix::identity(6, 6), 1.0).unwrap();
+    let mut result = Patterns {
+        outcome: wedged::Outcome::Incomplete(Stop::Undecided),
+        patterns: Vec::new(),
+        undecided: vec![Undecided {
+            contact: vec![true, false],
+            reason: "stalled".to_string(),
+        }],
+        info: PatternInfo::default(),
+        certificate: None,
+    };
+    let text = incomplete_text(
+        "p.toml",
+        &problem,
+        &Answer::Patterns(result.clone()),
+        Stop::Undecided,
+    );
+    assert_eq!(
+        text,
+        "p.toml: the solver could not decide some contact sets (1 undecided, listed in the \
+         summary and the JSON); the patterns below them may be missing, so the result is \
+         incomplete"
+    );
+    result.undecided.clear();
+    let stop = Stop::TimeLimit(Duration::from_secs(2));
+    let text = incomplete_text("p.toml", &problem, &Answer::Patterns(result), stop);
+    assert_eq!(
+        text,
+        "p.toml: the time limit of 2 s ran out with 0 maximal patterns found so far; the \
+         result is incomplete"
+    );
+}
+
+#[test]
+fn critical_progress_names_the_best_mu() {
+    let p = CriticalProgress {
+        explored: 0.372,
+        upper: Some(1.23456),
+    };
+    assert_eq!(
+        critical_progress_text(p, 3.42),
+        "explored 37.2%, best mu 1.235, 3.4 s"
+    );
+    let p = CriticalProgress {
+        explored: 0.0,
+        upper: None,
+    };
+    assert_eq!(
+        critical_progress_text(p, 1.0),
+        "explored 0.0%, no wedged configuration yet, 1.0 s"
+    );
+}
+
+#[test]
+fn critical_method_names_are_the_library_names() {
+    let names: Vec<String> = CriticalMethodArg::value_variants()
+        .iter()
+        .map(|m| m.to_possible_value().unwrap().get_name().to_string())
+        .collect();
+    assert_eq!(names, ["bnb", "enumerate", "faces"]);
+}
+
+#[test]
+fn one_line_joins_lines() {
+    assert_eq!(one_line("a\n  b\n\nc "), "a; b; c");
+}

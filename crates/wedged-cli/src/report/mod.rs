@@ -1,0 +1,43 @@
+//! What a run reports: the pieces of either kind of enumeration as one list ([`answer`]), the
+//! human-readable tables on stdout ([`summary`], and [`critical`] for `critical` and
+//! `sweep`), and the JSON files with their atomic writes ([`json`]).
+
+pub mod answer;
+pub mod critical;
+pub mod json;
+pub mod summary;
+
+/// A number with at most 4 significant digits, for labels.
+pub(crate) fn sig4(v: f64) -> String {
+    if !v.is_finite() {
+        return format!("{v}");
+    }
+    if v == 0.0 {
+        return "0".to_string();
+    }
+    let e = v.abs().log10().floor() as i32;
+    let s = if (-3..6).contains(&e) {
+        let decimals = (3 - e).max(0) as usize;
+        trim_zeros(&format!("{v:.decimals$}"))
+    } else {
+        let s = format!("{v:.3e}");
+        match s.split_once('e') {
+            Some((m, x)) => format!("{}e{}", trim_zeros(m), x),
+            None => s,
+        }
+    };
+    if s == "-0" {
+        "0".to_string()
+    } else {
+        s
+    }
+}
+
+/// Strips trailing zeros of a decimal number's fraction.
+pub(crate) fn trim_zeros(s: &str) -> String {
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s.to_string()
+    }
+}

@@ -1,0 +1,201 @@
+//! Tests of `simplex.rs`.
+
+use super::*;
+use crate::conic::socp;
+use crate::conic::socp::{Affine, Program};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// A random program shaped like the search's: `n` columns `>= 0` (some fixed at zero),
+/// rows with bounds `[0, inf)`, `[0, 0]`, free or `[1, 1]` / `[1, inf)`, dense entries of
+/// both signs, and a random cost.
+fn random_lp(rng: &mut ChaCha8Rng) -> Lp {
+    let n = rng.gen_range(2..10);
+    let rows = rng.gen_range(1..10);
+    let mut lp = Lp::new(n, rows);
+    for a in &mut lp.a {
+        *a = if rng.gen_bool(0.8) {
+            rng.gen_range(-1.0..1.0)
+        } else {
+            0.0
+        };
+    }
+    for j in 0..n {
+        lp.lo[j] = 0.0;
+        lp.hi[j] = match rng.gen_range(0..6) {
+            0 => 0.0,
+            1 => rng.gen_range(0.5..2.0),
+            _ => f64::INFINITY,
+        };
+    }
+    for k in 0..rows {
+        let j = n + k;
+        (lp.lo[j], lp.hi[j]) = match rng.gen_range(0..6) {
+            0 | 1 => (0.0, f64::INFINITY),
+            2 => (0.0, 0.0),
+            3 => (f64::NEG_INFINITY, f64::INFINITY),
+            4 => (1.0, 1.0),
+            _ => (1.0, f64::INFINITY),
+        };
+    }
+    // A normalisation keeps most programs bounded: the columns sum to one.
+    if rng.gen_bool(0.8) {
+        for k in 0..rows.min(1) {
+            for j in 0..n {
+                lp.a[k * n + j] = 1.0;
+            }
+            (lp.lo[n + k], lp.hi[n + k]) = (1.0, 1.0);
+        }
+    }
+    for c in &mut lp.cost {
+        *c = if rng.gen_bool(0.7) {
+            rng.gen_range(-1.0..1.0)
+        } else {
+            0.0
+        };
+    }
+    lp
+}
+
+/// The same program for Clarabel (columns, then row activities, as variables).
+fn reference(lp: &Lp) -> socp::Answer {
+    let total = lp.n + lp.rows;
+    let mut p = Program::new(total);
+    for k in 0..lp.rows {
+        let mut terms: Vec<(usize, f64)> = (0..lp.n)
+            .map(|j| (j, lp.a[k * lp.n + j]))
+            .filter(|t| t.1 != 0.0)
+            .collect();
+        terms.push((lp.n + k, -1.0));
+        p.zero(Affine::new(terms, 0.0));
+    }
+    for j in 0..total {
+        if lp.lo[j] == lp.hi[j] {
+            p.zero(Affine::new(vec![(j, 1.0)], -lp.lo[j]));
+            continue;
+        }
+        if lp.lo[j].is_finite() {
+            p.nonneg(Affine::new(vec![(j, 1.0)], -lp.lo[j]));
+        }
+        if lp.hi[j].is_finite() {
+            p.nonneg(Affine::new(vec![(j, -1.0)], lp.hi[j]));
+        }
+    }
+    let cost: Vec<(usize, f64)> = (0..total)
+        .map(|j| (j, lp.cost[j]))
+        .filter(|t| t.1 != 0.0)
+        .collect();
+    p.minimise(&cost);
+    socp::solve(&p).0
+}
+
+/// Whether the simplex answer agrees with Clarabel's (when Clarabel decides).
+fn agree(lp: &Lp, ours: &Answer, what: &str) -> bool {
+    match (ours, reference(lp)) {
+        (Answer::Optimal { value, .. }, socp::Answer::Optimal { value: v, .. }) => {
+            assert!(
+                (value - v).abs() <= 1e-6 * (1.0 + v.abs()),
+                "{what}: value {value} against Clarabel's {v}"
+            );
+            true
+        }
+        (Answer::Infeasible { .. }, socp::Answer::Infeasible { .. }) => true,
+        (_, socp::Answer::Uncertain { .. }) | (Answer::Failed(_), _) => false,
+        (a, b) => panic!("{what}: {a:?} against Clarabel's {b:?}"),
+    }
+}
+
+/// Cold solves of random programs agree with Clarabel; then each is changed the way the
+/// search changes its programs (a bound, a row's bounds, the costs) and solved again from
+/// the first basis, which agrees with Clarabel too and takes fewer pivots than a cold
+/// solve on the whole.
+#[test]
+fn random_programs_cold_and_warm_agree_with_clarabel() {
+    let mut rng = ChaCha8Rng::seed_from_u64(41);
+    let (mut compared, mut optimal, mut infeasible, mut failed) = (0, 0, 0, 0);
+    let (mut warm_pivots, mut cold_pivots) = (0, 0);
+    for case in 0..400 {
+        let lp = random_lp(&mut rng);
+        let (answer, basis, _) = solve(&lp, None);
+        if agree(&lp, &answer, &format!("case {case}")) {
+            compared += 1;
+        }
+        match &answer {
+            Answer::Optimal { .. } => optimal += 1,
+            Answer::Infeasible { .. } => infeasible += 1,
+            Answer::Failed(why) if why.contains("unbounded") => {}
+            Answer::Failed(_) => failed += 1,
+        }
+        let mut next = lp.clone();
+        match rng.gen_range(0..3) {
+            0 => {
+                let j = rng.gen_range(0..lp.n);
+                (next.lo[j], next.hi[j]) = (0.0, 0.0);
+            }
+            1 => {
+                let j = lp.n + rng.gen_range(0..lp.rows);
+                (next.lo[j], next.hi[j]) = (0.0, 0.0);
+            }
+            _ => {
+                for c in &mut next.cost {
+                    *c = rng.gen_range(-1.0..1.0);
+                }
+            }
+        }
+        let (warm, _, ws) = solve(&next, Some(&basis));
+        let (cold, _, cs) = solve(&next, None);
+        if agree(&next, &warm, &format!("case {case}, warm")) {
+            compared += 1;
+        }
+        match (&warm, &cold) {
+            (Answer::Optimal { value: a, .. }, Answer::Optimal { value: b, .. }) => {
+                assert!(
+                    (a - b).abs() <= 1e-9 * (1.0 + b.abs()),
+                    "case {case}: {a} {b}"
+                )
+            }
+            (Answer::Infeasible { .. }, Answer::Infeasible { .. }) => {}
+            (Answer::Failed(a), Answer::Failed(b))
+                if a.contains("unbounded") && b.contains("unbounded") => {}
+            (a, b) => panic!("case {case}: warm {a:?}, cold {b:?}"),
+        }
+        warm_pivots += ws.pivots;
+        cold_pivots += cs.pivots;
+    }
+    assert_eq!(failed, 0);
+    assert!(
+        compared > 700 && optimal > 80 && infeasible > 80,
+        "{compared} {optimal} {infeasible}"
+    );
+    assert!(warm_pivots < cold_pivots, "{warm_pivots} {cold_pivots}");
+}
+
+/// A program whose only point is known, and an infeasible one whose certificate is the
+/// obvious one.
+#[test]
+fn small_known_programs() {
+    // x0 + x1 = 1, x0 - x1 >= 0.5, minimise x0: x = (0.75, 0.25).
+    let mut lp = Lp::new(2, 2);
+    lp.a = vec![1.0, 1.0, 1.0, -1.0];
+    (lp.lo, lp.hi) = (
+        vec![0.0, 0.0, 1.0, 0.5],
+        vec![f64::INFINITY, f64::INFINITY, 1.0, f64::INFINITY],
+    );
+    lp.cost = vec![1.0, 0.0, 0.0, 0.0];
+    let (answer, basis, _) = solve(&lp, None);
+    let Answer::Optimal { x, value } = answer else {
+        panic!("{answer:?}")
+    };
+    assert!(
+        (x[0] - 0.75).abs() < 1e-12 && (value - 0.75).abs() < 1e-12,
+        "{x:?}"
+    );
+    // Then x0 - x1 >= 2 cannot hold with x1 >= 0 and x0 + x1 = 1.
+    lp.lo[3] = 2.0;
+    let (answer, _, _) = solve(&lp, Some(&basis));
+    let Answer::Infeasible { y } = answer else {
+        panic!("{answer:?}")
+    };
+    // y = (1, -1) up to scale and sign: (x0 + x1) - (x0 - x1) = 2 x1 >= 0, but 1 - 2 < 0.
+    assert!((y[0] + y[1]).abs() < 1e-12 && y[0] != 0.0, "{y:?}");
+}
