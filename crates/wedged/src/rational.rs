@@ -78,7 +78,7 @@ pub(crate) fn eliminate(a: &mut Vec<Vec<BigInt>>, order: &[usize], sweep: Sweep)
                     v -= &f * p;
                 }
                 let (q, rem) = v.div_rem(&prev);
-                debug_assert!(rem.is_zero(), "Bareiss division is exact");
+                assert!(rem.is_zero(), "Bareiss division is exact");
                 *x = q;
             }
         };

@@ -165,13 +165,6 @@ pub enum Error {
     Internal(String),
 }
 
-impl Error {
-    /// Whether the error is the input's (settings, dimension), not an internal failure.
-    pub fn is_input(&self) -> bool {
-        !matches!(self, Error::Internal(_))
-    }
-}
-
 /// The name the enumeration API has always used for [`Error`].
 pub type EnumerateError = Error;
 
