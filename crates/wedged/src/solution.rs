@@ -173,9 +173,14 @@ pub(crate) fn pieces(statuses: &[&[NodeStatus]]) -> Vec<Cone> {
 /// The relative accuracy of a witness's check.
 const CHECK_TOL: f64 = 1e-8;
 
-/// Checks `(u, r)` against WP at friction coefficient `mu`: `K u = r`, `sum r_n = 1`, `u_n >= 0`,
-/// `r_n >= 0`, `u_n r_n = 0` and `||r_t_i|| <= mu r_n_i`, relative to the terms involved.
-pub fn check_solution(problem: &Problem, mu: f64, u: &[f64], r: &[f64]) -> Result<(), String> {
+/// The part of a solution's check that every check shares: equilibrium `K u = r` row by row
+/// within `tol` of the row's terms, and the normalisation `sum r_n = 1` within `tol`.
+pub(crate) fn check_balance(
+    problem: &Problem,
+    u: &[f64],
+    r: &[f64],
+    tol: f64,
+) -> Result<(), String> {
     let (d, m) = (problem.dim(), problem.nodes());
     let k = problem.stiffness();
     let n = d * m;
@@ -185,16 +190,24 @@ pub fn check_solution(problem: &Problem, mu: f64, u: &[f64], r: &[f64]) -> Resul
             v += k[(a, b)] * u[b];
             s += (k[(a, b)] * u[b]).abs();
         }
-        if v.abs() > CHECK_TOL * s.max(f64::MIN_POSITIVE) {
+        if v.abs() > tol * s.max(f64::MIN_POSITIVE) {
             return Err(format!(
                 "equilibrium fails in row {a}: residual {v:e} of {s:e}"
             ));
         }
     }
     let total: f64 = (0..m).map(|i| r[d * i]).sum();
-    if (total - 1.0).abs() > CHECK_TOL {
+    if (total - 1.0).abs() > tol {
         return Err(format!("sum r_n = {total}, not 1"));
     }
+    Ok(())
+}
+
+/// Checks `(u, r)` against WP at friction coefficient `mu`: `K u = r`, `sum r_n = 1`, `u_n >= 0`,
+/// `r_n >= 0`, `u_n r_n = 0` and `||r_t_i|| <= mu r_n_i`, relative to the terms involved.
+pub fn check_solution(problem: &Problem, mu: f64, u: &[f64], r: &[f64]) -> Result<(), String> {
+    let (d, m) = (problem.dim(), problem.nodes());
+    check_balance(problem, u, r, CHECK_TOL)?;
     let u_scale = u.iter().fold(0.0f64, |a, x| a.max(x.abs()));
     for i in 0..m {
         let (un, rn) = (u[d * i], r[d * i]);

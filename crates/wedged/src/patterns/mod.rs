@@ -38,7 +38,7 @@ pub use certify::PatternCertificate;
 
 use crate::run::{check_zero_tol, Control, EnumerateError, Limits, Outcome, Stop};
 
-use crate::solution::{ContactPattern, NodeStatus};
+use crate::solution::{check_balance, ContactPattern, NodeStatus};
 
 use crate::problem::Problem;
 use crate::rays::Progress;
@@ -448,24 +448,7 @@ pub(crate) fn check_witness(
     r: &[f64],
 ) -> Result<(), String> {
     let (d, m) = (form.dim, form.m);
-    let k = form.problem.stiffness();
-    let n = d * m;
-    for a in 0..n {
-        let (mut v, mut s) = (-r[a], r[a].abs());
-        for b in 0..n {
-            v += k[(a, b)] * u[b];
-            s += (k[(a, b)] * u[b]).abs();
-        }
-        if v.abs() > WITNESS_TOL * s.max(f64::MIN_POSITIVE) {
-            return Err(format!(
-                "equilibrium fails in row {a}: residual {v:e} of {s:e}"
-            ));
-        }
-    }
-    let total: f64 = (0..m).map(|i| r[d * i]).sum();
-    if (total - 1.0).abs() > WITNESS_TOL {
-        return Err(format!("sum r_n = {total}, not 1"));
-    }
+    check_balance(form.problem, u, r, WITNESS_TOL)?;
     let u_scale = u.iter().fold(0.0f64, |a, x| a.max(x.abs()));
     for i in 0..m {
         let (un, rn) = (u[d * i], r[d * i]);
