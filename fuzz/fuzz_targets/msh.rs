@@ -24,7 +24,7 @@ fuzz_target!(|data: &[u8]| {
             }));
         }
     });
-    if let Err(e) = wedged_cli::msh::parse(data, "fuzz.msh") {
+    if let Err(e) = wedged_cli::input::msh::parse(data, "fuzz.msh") {
         let message = e.to_string();
         assert!(message.starts_with("fuzz.msh: "), "{message}");
         assert!(!message.contains('\n'), "not one line: {message}");

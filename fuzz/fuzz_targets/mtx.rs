@@ -5,7 +5,7 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    if let Err(e) = wedged_cli::mtx::parse_bytes(data, "fuzz.mtx") {
+    if let Err(e) = wedged_cli::input::mtx::parse_bytes(data, "fuzz.mtx") {
         let message = e.to_string();
         assert!(message.starts_with("fuzz.mtx"), "{message}");
         assert!(!message.contains('\n'), "not one line: {message}");

@@ -11,7 +11,7 @@
 use std::path::{Component, Path};
 
 use libfuzzer_sys::fuzz_target;
-use wedged_cli::problem_file;
+use wedged_cli::input::problem_file;
 
 const MAX_NODES: u64 = 5_000;
 

@@ -4,12 +4,10 @@
 //!
 //! The binary uses them from here; the fuzz targets (`fuzz/` at the repository root) and the
 //! corpus regression test (`tests/fuzz_corpus.rs`) call their in-memory entry points
-//! ([`mtx::parse_bytes`], [`msh::parse`], [`problem_file::parse_str`]) directly. On any input
+//! ([`input::mtx::parse_bytes`], [`input::msh::parse`], [`input::problem_file::parse_str`]) directly. On any input
 //! these return an error, one line that names the source, and never panic.
 
 pub mod input;
-
-pub use input::{msh, mtx, problem_file};
 
 use std::cell::Cell;
 use std::panic::{self, AssertUnwindSafe};

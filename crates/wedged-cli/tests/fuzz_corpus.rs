@@ -6,7 +6,7 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use wedged_cli::{msh, mtx, problem_file};
+use wedged_cli::input::{msh, mtx, problem_file};
 
 /// The files of `fuzz/<kind>/<target>/` for `kind` = corpus and regressions, sorted.
 fn inputs(target: &str) -> Vec<PathBuf> {

@@ -2,9 +2,9 @@
 //! both crates (`wedged` and `wedged-cli`):
 //!
 //! - **No import circle between files.** A file depends on another when it names a path into it
-//!   (`crate::a::b`, `super::x`, `wedged_cli::m` in a `use` or inline). A file's use of its own
-//!   folder's `mod.rs` (the folder's shared vocabulary) is containment, not an edge; every
-//!   other reference is one, siblings included.
+//!   (`crate::a::b`, `super::x`, `wedged_cli::m` in a `use` or inline). A file's use of an
+//!   ancestor module's file (its folder's `mod.rs`, the `foo.rs` of a `foo/` folder, the crate
+//!   root) is containment, not an edge; every other reference is one, siblings included.
 //! - **The top-level modules form layers**: the graph between them (each folder one node) has
 //!   no circle either.
 //! - **Only `conic` knows a solver**: no file outside `src/conic/` names `clarabel`, and only
@@ -176,10 +176,9 @@ fn read_crate(src: &Path, lib_name: &str) -> Crate {
                     .find_map(|k| by_module.get(&p[..k].to_vec()).copied());
                 if let Some(t) = target {
                     let t_module = &modules[t];
-                    // A folder's own `mod.rs` (or an ancestor's) is containment, not an edge.
-                    let ancestor = t.file_name().is_some_and(|n| n == "mod.rs")
-                        && module.starts_with(t_module)
-                        && module.len() > t_module.len();
+                    // An ancestor module's file (`mod.rs`, `foo.rs` of `foo/`, the crate root)
+                    // is containment, not an edge.
+                    let ancestor = module.starts_with(t_module) && module.len() > t_module.len();
                     if t != file && !ancestor {
                         targets.insert(t.clone());
                     }

@@ -2,9 +2,9 @@
 
 use super::*;
 use crate::args::*;
-use crate::report::json as output;
+use crate::report::json;
 use crate::report::summary;
-use wedged_cli::{mtx, problem_file};
+use wedged_cli::input::{mtx, problem_file};
 
 pub(crate) fn run_condense(args: CondenseArgs) -> Result<(), Failure> {
     let source = args.problem.display().to_string();
@@ -13,7 +13,7 @@ pub(crate) fn run_condense(args: CondenseArgs) -> Result<(), Failure> {
     let mut text = summary::model(&source, &model);
     if let Some(path) = &args.mtx {
         let bytes = mtx::write_condensed(&model, &source);
-        output::write_atomic(path, bytes.as_bytes(), "Matrix Market file")
+        json::write_atomic(path, bytes.as_bytes(), "Matrix Market file")
             .map_err(|e| Failure::Input(e.to_string()))?;
         text.push_str(&format!(
             "condensed stiffness ({n} x {n}) written to {}\n",

@@ -14,8 +14,8 @@ use super::*;
 use crate::args::*;
 use crate::draw::sweep_svg;
 use crate::report::json::{JsonTarget, PendingFile};
-use crate::report::{critical as critical_out, summary};
-use wedged_cli::problem_file;
+use crate::report::{self, summary};
+use wedged_cli::input::problem_file;
 
 /// What `critical` and `sweep` read and where they write.
 pub(crate) struct CriticalJob<'a> {
@@ -111,7 +111,7 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
     let result = run_critical_library(&problem, &settings, &source)?;
     let json_text = json
         .as_ref()
-        .map(|_| critical_out::to_json(&problem, &settings, &source, &result, model.as_ref()));
+        .map(|_| report::critical::to_json(&problem, &settings, &source, &result, model.as_ref()));
     let incomplete = match result.status {
         CriticalStatus::Incomplete(stop) => Some(stop),
         _ => None,
@@ -149,7 +149,7 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
             if let Some(model) = &model {
                 stdout_text.push_str(&summary::model(&source, model));
             }
-            stdout_text.push_str(&critical_out::render(
+            stdout_text.push_str(&report::critical::render(
                 &problem, &settings, &source, file_mu, &result, json_path,
             ));
             stdout_text.push_str(&svg_line);
@@ -184,7 +184,7 @@ pub(crate) fn critical_incomplete_text(source: &str, result: &Critical, stop: St
     let found = match result.upper {
         Some(upper) => format!(
             "mu* <= {} (a checked wedged configuration), not certified from below",
-            critical_out::bound(upper, 10, critical_out::Round::Up)
+            report::critical::bound(upper, 10, report::critical::Round::Up)
         ),
         None => "no wedged configuration found, nothing claimed about mu*".to_string(),
     };

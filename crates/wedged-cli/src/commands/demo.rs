@@ -5,8 +5,8 @@ use wedged::{CriticalSettings, CriticalStatus, Problem, Settings};
 
 use super::*;
 use crate::args::*;
+use crate::report;
 use crate::report::answer::Choice;
-use crate::report::critical as critical_out;
 
 pub(crate) fn run_demo(args: DemoArgs) -> Result<(), Failure> {
     let (model, mu) = wedged::examples::plug2d_demo()
@@ -42,7 +42,7 @@ pub(crate) fn run_demo(args: DemoArgs) -> Result<(), Failure> {
     // The same plug's mu*, by branch and bound.
     let settings = CriticalSettings::default();
     let result = run_critical_library(&problem, &settings, "demo")?;
-    let line = match critical_out::answer_line(&result, settings.tol) {
+    let line = match report::critical::answer_line(&result, settings.tol) {
         Some(answer) => format!("\ncritical friction coefficient: {answer}\n"),
         None => format!(
             "\ncritical friction coefficient: not found ({})\n",

@@ -15,10 +15,10 @@ use super::*;
 use crate::args::*;
 use crate::draw::export;
 use crate::report::answer::{Answer, Choice};
-use crate::report::json as output;
+use crate::report::json;
 use crate::report::json::JsonTarget;
 use crate::report::summary;
-use wedged_cli::problem_file;
+use wedged_cli::input::problem_file;
 
 pub(crate) fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
     let source = args.problem.display().to_string();
@@ -184,7 +184,7 @@ pub(crate) fn report(
     };
     let json_text = json
         .as_ref()
-        .map(|_| output::to_json(problem, choice, &answer, model, certificate.as_ref()));
+        .map(|_| json::to_json(problem, choice, &answer, model, certificate.as_ref()));
     let incomplete = answer.stopped();
     let written = match model {
         Some(model) if (vtk.is_some() || svg.is_some()) && incomplete.is_none() => {

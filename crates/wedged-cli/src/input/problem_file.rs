@@ -42,7 +42,8 @@ use wedged::fe::generate::{Frustum, Plug2d, VGroove};
 use wedged::fe::{BoundarySpec, ContactSpec, Material, Mesh, Model, Plane};
 use wedged::{Problem, ProblemError};
 
-use crate::{msh, mtx, one_line};
+use crate::input::{msh, mtx};
+use crate::one_line;
 
 /// A problem file that could not be read or is invalid; the message names the file.
 #[derive(Debug)]
