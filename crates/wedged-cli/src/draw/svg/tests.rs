@@ -1,6 +1,9 @@
 //! Tests of `svg.rs`.
 
+use super::geometry::{add3, norm3};
+use super::legend::STATUSES;
 use super::*;
+use crate::report::sig4;
 use wedged::fe::boundary::{Boundary, Frame};
 use wedged::fe::{Configuration, Element, ElementKind, Mesh};
 
