@@ -1463,3 +1463,41 @@ fn exact_flag_needs_a_2d_ray_enumeration() {
         assert_bad_input(&out, &["--exact", method]);
     }
 }
+
+/// An internal failure (here the test hook `WEDGED_INJECT_FAULT=corrupt-witness`, which moves the
+/// `mu*` witness off equilibrium before its final check) exits 1, on one line that says it is a
+/// bug and what failed, and prints no answer; bad input still exits 2.
+#[test]
+fn an_internal_failure_exits_1_and_says_it_is_a_bug() {
+    let run = |fault: &str| {
+        Command::new(env!("CARGO_BIN_EXE_wedged"))
+            .args(["critical", &fixture("two_nodes.toml"), "--json", "-"])
+            .env("WEDGED_INJECT_FAULT", fault)
+            .output()
+            .expect("the binary runs")
+    };
+    let out = run("corrupt-witness");
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "stderr: {err}");
+    assert!(err.starts_with("error: "), "{err}");
+    assert!(err.contains("internal failure"), "{err}");
+    assert!(err.contains("bug"), "{err}");
+    assert!(
+        err.contains("witness") && err.contains("failed its check"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err}");
+    assert!(
+        stdout(&out).is_empty(),
+        "an answer was printed: {}",
+        stdout(&out)
+    );
+    // The same run without the fault succeeds, so the failure above is the fault's.
+    assert_success(&wedged(&["critical", &fixture("two_nodes.toml")]));
+    // An unknown fault name is bad input, not silently ignored.
+    assert_bad_input(
+        &run("no-such-fault"),
+        &["WEDGED_INJECT_FAULT", "no-such-fault"],
+    );
+}

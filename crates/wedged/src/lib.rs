@@ -76,6 +76,8 @@ pub use rays::{
     enumerate, enumerate_with_control, enumerate_with_progress, Enumeration, Info, Method,
     Progress, Settings,
 };
+#[doc(hidden)]
+pub use run::Fault;
 pub use run::{EnumerateError, Error, Limits, Outcome, Stop};
 pub use solution::{Cone, ContactPattern, NodeStatus, Ray};
 

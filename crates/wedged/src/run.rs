@@ -23,6 +23,22 @@ pub struct Limits {
     pub max_memory: Option<u64>,
 }
 
+/// A fault that tests inject to see an internal failure reported as one (exit 1 in the CLI);
+/// never set in use. See `CriticalSettings::fault`.
+#[doc(hidden)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fault {
+    /// Move the `mu*` witness off equilibrium just before its final check.
+    CorruptWitness,
+}
+
+impl Fault {
+    /// The fault named `name` (`corrupt-witness`), if any.
+    pub fn parse(name: &str) -> Option<Fault> {
+        (name == "corrupt-witness").then_some(Fault::CorruptWitness)
+    }
+}
+
 /// Why a run stopped before it was complete.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Stop {

@@ -20,7 +20,6 @@ use std::path::{Path, PathBuf};
 
 const MAX_LINES: usize = 800;
 
-
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     for entry in fs::read_dir(dir).unwrap() {
         let path = entry.unwrap().path();

@@ -49,11 +49,25 @@ pub(crate) fn critical_job<'a>(
             tol: common.tol.unwrap_or(wedged::critical::DEFAULT_TOL),
             limits,
             certify,
+            fault: injected_fault()?,
         },
         source: problem.display().to_string(),
         json,
         svg,
     })
+}
+
+/// The test hook `WEDGED_INJECT_FAULT` (see `wedged::Fault`): tests set it to see an internal
+/// failure exit 1. An unknown name is an input error, so that a typo cannot pass unnoticed.
+fn injected_fault() -> Result<Option<wedged::Fault>, Failure> {
+    match std::env::var("WEDGED_INJECT_FAULT") {
+        Err(_) => Ok(None),
+        Ok(name) => wedged::Fault::parse(&name).map(Some).ok_or_else(|| {
+            Failure::Input(format!(
+                "WEDGED_INJECT_FAULT={name:?} is not a known fault (corrupt-witness)"
+            ))
+        }),
+    }
 }
 
 pub(crate) fn run_critical(args: CriticalArgs) -> Result<(), Failure> {

@@ -64,7 +64,7 @@ use crate::conic::program::{
 };
 use crate::patterns::Undecided;
 use crate::problem::Problem;
-use crate::run::{Control, EnumerateError, Limits, Stop};
+use crate::run::{Control, EnumerateError, Fault, Limits, Stop};
 
 /// The most nodes [`CriticalMethod::Faces`] accepts.
 pub const CRITICAL_FACES_MAX_NODES: usize = 12;
@@ -122,6 +122,10 @@ pub struct CriticalSettings {
     /// Keep every infeasibility certificate and re-check them, and the witness, in exact
     /// rational arithmetic ([`certify`]); the outcome is [`Critical::certificate`].
     pub certify: bool,
+    /// Test hook, not part of the API: a fault to inject so that tests can see an internal
+    /// failure reported as one (the CLI sets it from `WEDGED_INJECT_FAULT`). `None` in use.
+    #[doc(hidden)]
+    pub fault: Option<Fault>,
 }
 
 impl Default for CriticalSettings {
@@ -131,6 +135,7 @@ impl Default for CriticalSettings {
             tol: DEFAULT_TOL,
             limits: Limits::default(),
             certify: false,
+            fault: None,
         }
     }
 }
@@ -381,7 +386,10 @@ pub fn critical_with_control(
     let mut thresholds = found.thresholds;
     let witness = match (witness, upper) {
         (Some(w), Some(up)) => {
-            let (u, r) = original.unscale(&scales, &w.u, &w.r);
+            let (mut u, r) = original.unscale(&scales, &w.u, &w.r);
+            if settings.fault == Some(Fault::CorruptWitness) {
+                corrupt(&mut u);
+            }
             check_solution(original, up, &u, &r).map_err(|why| {
                 EnumerateError::Internal(format!(
                     "the witness of mu* = {up}, in the problem's own units, failed its check, so \
@@ -751,4 +759,13 @@ fn witness_of(form: &Formulation, best: &Leaf) -> Result<CriticalWitness, Enumer
         status,
         pattern,
     })
+}
+
+/// The injected fault [`Fault::CorruptWitness`]: move the first displacement by more than the
+/// displacement's size, so that equilibrium fails by far more than any tolerance.
+fn corrupt(u: &mut [f64]) {
+    let size = u.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if let Some(first) = u.first_mut() {
+        *first += 1.0 + 10.0 * size;
+    }
 }
