@@ -4,22 +4,13 @@
 //! `faces` (brute force over contact sets and tight sets) shares no enumeration code with the two
 //! double descriptions; `full-dd` decides adjacency combinatorially, `pruned-dd` algebraically.
 
+mod common;
+
+use common::random_spd;
 use nalgebra::DMatrix;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use wedged::{enumerate, Enumeration, Method, NodeStatus, Outcome, Problem, Settings};
-
-/// `K = A A^T + diag`, with `A` having `cols` columns (fewer than `2m` makes `K` ill-conditioned
-/// in some directions, more typical of condensed finite-element matrices).
-fn random_spd(rng: &mut ChaCha8Rng, m: usize) -> DMatrix<f64> {
-    let n = 2 * m;
-    let cols = rng.gen_range(1..=n + 2);
-    let a = DMatrix::from_fn(n, cols, |_, _| rng.gen_range(-1.0..1.0));
-    let d = DMatrix::from_diagonal(&nalgebra::DVector::from_fn(n, |_, _| {
-        rng.gen_range(0.05..1.0)
-    }));
-    &a * a.transpose() + d
-}
 
 /// Mirror symmetry: node `i` and node `m-1-i` are images with the tangent flipped.
 fn mirrored(k: &DMatrix<f64>) -> DMatrix<f64> {
@@ -76,7 +67,7 @@ fn methods_agree_on_random_problems() {
     for trial in 0..280 {
         let m = 1 + trial % 7;
         let mu = [0.5, 1.0, 2.0, 3.0, 5.0][trial % 5] * rng.gen_range(0.8..1.25);
-        let k = random_spd(&mut rng, m);
+        let k = random_spd(&mut rng, 2 * m);
         let p = Problem::new(2, k, mu).unwrap();
         let e = check_all_methods(&p, &format!("trial {trial} (m = {m}, mu = {mu})"));
         wedged += (e.outcome == Outcome::Wedged) as usize;
@@ -92,7 +83,7 @@ fn methods_agree_on_mirror_symmetric_problems() {
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     for trial in 0..60 {
         let m = 2 + trial % 5;
-        let k = mirrored(&random_spd(&mut rng, m));
+        let k = mirrored(&random_spd(&mut rng, 2 * m));
         let p = Problem::new(2, k, rng.gen_range(0.4..2.5)).unwrap();
         let e = check_all_methods(&p, &format!("mirror trial {trial}"));
         // The mirror image of every ray is a ray: statuses reversed with slip+ and slip- swapped.
@@ -121,7 +112,7 @@ fn methods_agree_on_degenerate_problems() {
     let mut rng = ChaCha8Rng::seed_from_u64(99);
     for trial in 0..80 {
         let m = 2 + trial % 5;
-        let mut k = random_spd(&mut rng, m);
+        let mut k = random_spd(&mut rng, 2 * m);
         let n = 2 * m;
         match trial % 4 {
             // Block diagonal in two groups of nodes: exact zeros in K^{-1}.
@@ -189,7 +180,7 @@ fn methods_agree_when_a_ray_lies_on_a_constraint() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     for trial in 0..40 {
         let m = 1 + trial % 4;
-        let k = random_spd(&mut rng, m);
+        let k = random_spd(&mut rng, 2 * m);
         let g = k.clone().try_inverse().unwrap();
         // At mu = G_nn / |G_nt| of node 0, the ray e_n -/+ mu e_t of node 0 has u_n_0 = 0.
         let mu = g[(0, 0)] / g[(0, 1)].abs();
@@ -203,7 +194,7 @@ fn scale_does_not_change_the_answer() {
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     for trial in 0..60 {
         let m = 1 + trial % 6;
-        let k = random_spd(&mut rng, m);
+        let k = random_spd(&mut rng, 2 * m);
         let mu = rng.gen_range(0.3..2.0);
         let base = run(&Problem::new(2, k.clone(), mu).unwrap(), Method::PrunedDd);
         for s in [1e-6, 1e6] {
@@ -233,7 +224,7 @@ fn permuting_nodes_permutes_the_answer() {
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     for trial in 0..40 {
         let m = 2 + trial % 5;
-        let p = Problem::new(2, random_spd(&mut rng, m), rng.gen_range(0.3..2.0)).unwrap();
+        let p = Problem::new(2, random_spd(&mut rng, 2 * m), rng.gen_range(0.3..2.0)).unwrap();
         let mut order: Vec<usize> = (0..m).collect();
         order.reverse();
         order.rotate_left(trial % m);
@@ -345,7 +336,7 @@ fn cone_status_is_the_status_of_the_centroid() {
     for trial in 0..120 {
         let m = 2 + trial % 5;
         let mu = [1.0, 2.0, 3.0][trial % 3] * rng.gen_range(0.8..1.25);
-        let p = Problem::new(2, random_spd(&mut rng, m), mu).unwrap();
+        let p = Problem::new(2, random_spd(&mut rng, 2 * m), mu).unwrap();
         let e = run(&p, Method::PrunedDd);
         for cone in &e.cones {
             cones_seen += 1;

@@ -4,6 +4,9 @@
 //! one-node closed forms; and every witness checked here, independently of the library's own
 //! check.
 
+mod common;
+
+use common::random_spd;
 use nalgebra::DMatrix;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -12,15 +15,6 @@ use wedged::{
     enumerate, enumerate_patterns, ContactPattern, Limits, NodeStatus, Outcome, PatternMethod,
     PatternSettings, Patterns, Problem, Settings,
 };
-
-fn random_spd(rng: &mut ChaCha8Rng, n: usize) -> DMatrix<f64> {
-    let cols = rng.gen_range(1..=n + 2);
-    let a = DMatrix::from_fn(n, cols, |_, _| rng.gen_range(-1.0..1.0));
-    let d = DMatrix::from_diagonal(&nalgebra::DVector::from_fn(n, |_, _| {
-        rng.gen_range(0.05..1.0)
-    }));
-    &a * a.transpose() + d
-}
 
 /// Runs a method; `bnb` and `pattern-faces` with `--certify`, whose certificate must pass
 /// (the pyramid's completeness rests on floating-point double description and is not
