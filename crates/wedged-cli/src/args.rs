@@ -275,6 +275,7 @@ impl ValueEnum for MethodArg {
             MethodArg::Rays(Method::FullDd),
             MethodArg::Rays(Method::Faces),
             MethodArg::Rays(Method::Exact),
+            MethodArg::Rays(Method::Search),
             MethodArg::Patterns(PatternMethod::Bnb),
             MethodArg::Patterns(PatternMethod::Pyramid {
                 faces: DEFAULT_PYRAMID_FACES,
@@ -294,6 +295,10 @@ impl ValueEnum for MethodArg {
             }
             MethodArg::Rays(Method::Exact) => {
                 "2D rays: double description in exact rational arithmetic (as --exact)"
+            }
+            MethodArg::Rays(Method::Search) => {
+                "2D rays: depth-first search over contact sets (warm-started simplex), then the \
+                 rays of each face in its own dimension"
             }
             MethodArg::Patterns(PatternMethod::Bnb) => {
                 "patterns (2D, 3D): branch and bound with conic relaxations"

@@ -74,6 +74,20 @@ pub(crate) fn null_vector(a: &DMatrix<f64>) -> (Vec<f64>, Vec<f64>) {
     (sigma, v)
 }
 
+/// An orthonormal basis (columns) of the numerical null space of `a`: the right singular
+/// vectors of `a` whose singular value is at most `zero` (an absolute threshold: the caller
+/// knows the scale of the rows, which may be parts of longer rows that set it).
+pub(crate) fn null_space(a: &DMatrix<f64>, zero: f64) -> DMatrix<f64> {
+    let n = a.ncols();
+    let rows = a.nrows().max(n);
+    let mut b = DMatrix::<f64>::zeros(rows, n);
+    b.rows_mut(0, a.nrows()).copy_from(a);
+    let svd = b.svd(false, true);
+    let vt = svd.v_t.expect("requested V^T");
+    let null: Vec<usize> = (0..n).filter(|&k| svd.singular_values[k] <= zero).collect();
+    DMatrix::from_fn(n, null.len(), |r, c| vt[(null[c], r)])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -194,3 +194,29 @@ pub(crate) fn check_zero_tol(zero_tol: f64) -> Result<(), Error> {
         )))
     }
 }
+
+/// Runs `work` on a scoped thread while the calling thread calls `report` every 200 ms, and
+/// once more at the end; returns what `work` returns. (The progress callbacks of the searches
+/// run on the caller's thread, which may not be `Sync`-friendly code such as a terminal line.)
+pub(crate) fn with_progress<T: Send>(work: impl FnOnce() -> T + Send, report: impl Fn()) -> T {
+    let (finished, wait) = std::sync::mpsc::channel::<()>();
+    let out = std::thread::scope(|scope| {
+        let handle = scope.spawn(|| {
+            let out = work();
+            let _ = finished.send(());
+            out
+        });
+        // Until the work sends its end (or its thread is gone).
+        while let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
+            wait.recv_timeout(std::time::Duration::from_millis(200))
+        {
+            report();
+        }
+        handle.join()
+    });
+    report();
+    match out {
+        Ok(out) => out,
+        Err(panic) => std::panic::resume_unwind(panic),
+    }
+}

@@ -54,8 +54,10 @@ fn check_all_methods(problem: &Problem, what: &str) -> Enumeration {
     let pruned = run(problem, Method::PrunedDd);
     let full = run(problem, Method::FullDd);
     let faces = run(problem, Method::Faces);
+    let search = run(problem, Method::Search);
     assert_same(&pruned, &full, &format!("{what}: pruned-dd vs full-dd"));
     assert_same(&pruned, &faces, &format!("{what}: pruned-dd vs faces"));
+    assert_same(&pruned, &search, &format!("{what}: pruned-dd vs search"));
     pruned
 }
 

@@ -641,6 +641,20 @@ fn info_line(info: &Info) -> String {
             "candidate tight sets",
         ));
     }
+    if info.search_nodes > 0 {
+        parts.push(format!(
+            "search tree: {} ({} pruned, {} inherited), {} (faces up to dimension {}); {} \
+             ({} pivots, {} passed to Clarabel)",
+            plural(info.search_nodes as usize, "node", "nodes"),
+            info.search_pruned,
+            info.search_inherited,
+            plural(info.search_leaves as usize, "leaf", "leaves"),
+            info.largest_face,
+            plural(info.lp_solves as usize, "linear program", "linear programs"),
+            info.lp_pivots,
+            info.lp_fallbacks
+        ));
+    }
     parts.join("; ")
 }
 

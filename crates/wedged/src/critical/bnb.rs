@@ -388,7 +388,7 @@ pub(super) fn run(
             upper: best.is_finite().then_some(best),
         });
     };
-    crate::patterns::with_progress(
+    crate::run::with_progress(
         || {
             for bar in bars(ctx.form.mu) {
                 search.bar.store(bar.to_bits(), Ordering::Relaxed);

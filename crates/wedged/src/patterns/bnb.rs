@@ -194,7 +194,7 @@ pub(super) fn run(
             rays: search.found.lock().map_or(0, |f| f.len()),
         });
     };
-    super::with_progress(
+    crate::run::with_progress(
         || search.explore(vec![Class::Free; form.m], 0, None),
         || report(&search),
     );

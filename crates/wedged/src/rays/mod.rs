@@ -9,6 +9,8 @@
 //! - [`Method::FullDd`] (`dd.rs`, full variant): all extreme rays of `C` by double description,
 //!   then a complementarity filter.
 //! - [`Method::Faces`] (`faces.rs`): brute force over the `2^m` contact sets.
+//! - [`Method::Search`] (`search/`): depth-first search over the contact sets that some
+//!   solution presses (warm-started simplex), then the rays of each face in its own dimension.
 //! - [`Method::Exact`] ([`crate::exact`]): double description in exact integer arithmetic, no
 //!   tolerance anywhere; its rays are exact (rounded to `f64` only for output), so they skip the
 //!   floating-point check of the finishing step.
@@ -19,6 +21,7 @@ pub mod exact;
 pub mod exact_ray;
 mod faces;
 pub(crate) mod params;
+mod search;
 pub mod verify;
 
 use std::sync::atomic::AtomicBool;
@@ -69,6 +72,7 @@ pub fn enumerate_with_control(
     let control = Control::new(settings.limits, cancel);
     let mut info = Info::default();
     let mut exact_rays: Vec<Ray> = Vec::new();
+    let mut undecided = None;
     let raw = if control.must_stop(0) {
         Vec::new()
     } else {
@@ -106,6 +110,11 @@ pub fn enumerate_with_control(
                 &control,
             ),
             Method::Faces => faces::run(problem, settings, &mut info, &control),
+            Method::Search => {
+                let (rays, stop) = search::run(problem, settings, &mut info, progress, &control);
+                undecided = stop;
+                rays
+            }
         }
     };
     let mut rays = exact_rays;
@@ -120,7 +129,7 @@ pub fn enumerate_with_control(
     rays.sort_by(|a, b| a.status.cmp(&b.status));
     rays.dedup_by(|a, b| a.status == b.status);
     info.seconds = start.elapsed().as_secs_f64();
-    let (outcome, cones) = match control.stopped() {
+    let (outcome, cones) = match control.stopped().or(undecided) {
         Some(stop) => (Outcome::Incomplete(stop), Vec::new()),
         None if rays.is_empty() => (Outcome::NotWedged, Vec::new()),
         None => (Outcome::Wedged, cones_of(&rays)),

@@ -21,6 +21,11 @@ pub enum Method {
     /// taken as the rational it is, every sign decided exactly, so the rays, their statuses and
     /// the cones are provably all of them (`zero_tol` is not used). Slower than the others.
     Exact,
+    /// Depth-first search over contact sets, each decided by a warm-started simplex method,
+    /// then the rays of each reached face by double description in the face's own dimension
+    /// (`rays/search`): its work follows the contact sets that some solution presses, not
+    /// the intermediate rays of a double description over the whole cone.
+    Search,
 }
 
 impl Method {
@@ -31,15 +36,17 @@ impl Method {
             Method::FullDd => "full-dd",
             Method::Faces => "faces",
             Method::Exact => "exact",
+            Method::Search => "search",
         }
     }
 
     /// Every method, in a fixed order.
-    pub const ALL: [Method; 4] = [
+    pub const ALL: [Method; 5] = [
         Method::PrunedDd,
         Method::FullDd,
         Method::Faces,
         Method::Exact,
+        Method::Search,
     ];
 }
 
@@ -106,6 +113,26 @@ pub struct Info {
     /// full-dd): values within a factor of 100 of the zero tolerance, on either side. They were
     /// decided by the tolerance; `--certify` checks the reported rays exactly.
     pub near_degenerate: u64,
+    /// Search nodes visited, leaves included (search).
+    pub search_nodes: u64,
+    /// Search nodes that took their parent's solution and solved nothing (search).
+    pub search_inherited: u64,
+    /// Search nodes pruned: no solution presses their contact nodes at once (search).
+    pub search_pruned: u64,
+    /// Leaves reached: the contact sets that some solution presses exactly (search).
+    pub search_leaves: u64,
+    /// Search nodes whose program neither solver could decide (explored, never pruned).
+    pub search_undecided: u64,
+    /// Why the faces of some leaves could not be computed (search; the run is then
+    /// incomplete, [`crate::Stop::Undecided`]).
+    pub search_undecided_faces: Vec<String>,
+    /// The largest dimension of a leaf's face (search).
+    pub largest_face: usize,
+    /// Linear programs solved by the simplex method, their pivots, and the programs passed on
+    /// to Clarabel (search).
+    pub lp_solves: u64,
+    pub lp_pivots: u64,
+    pub lp_fallbacks: u64,
     /// Wall-clock seconds for the whole run.
     pub seconds: f64,
 }

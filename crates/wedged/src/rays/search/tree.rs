@@ -1,0 +1,215 @@
+//! The depth-first search over contact sets.
+//!
+//! A search node fixes some nodes to contact or separated and leaves the rest free (the
+//! relaxation: `u_n >= 0` and the friction cone, no complementarity). Its program asks for a
+//! solution that presses every contact node at once (`r_n_i >= 1`, [`Norm::Pressed`]; with no
+//! contact node yet, `sum r_n >= 1`). The subtree is pruned when that program is infeasible:
+//! every leaf below would then have a contact node that no solution presses, and such a leaf's
+//! face lies inside the face of a leaf with a smaller contact set (the node's reaction is zero
+//! throughout, so it may as well be separated), which the search reaches on another branch.
+//! So the leaves reached are exactly the contact sets `J` for which some solution presses
+//! exactly `J`, and every complementary extreme ray lies in the face of one of them (the leaf of
+//! the set it presses).
+//!
+//! Each program is a warm start of the simplex method from the parent's basis: a child differs
+//! from its parent by the bounds of one node. A child whose parent's solution already meets its
+//! constraints (the branched node's gap closed with a positive pressure, or its reaction zero)
+//! inherits it and solves nothing. The node to branch on is the free node whose relaxed
+//! solution breaks complementarity most (`u_n r_n` largest), then the one pressed most. The
+//! two subtrees run in parallel (`rayon::join`).
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+
+use crate::conic::contact_lp::ContactLp;
+use crate::conic::program::{Class, Decision, Norm, POSITIVE};
+use crate::conic::simplex::Basis;
+use crate::run::Control;
+
+/// A solution's gap or reaction component at most this (with `sum r_n = 1`, gaps scaled) counts
+/// as zero when deciding whether a child inherits it.
+const INHERIT_ZERO: f64 = 1e-9;
+
+/// Explored fractions are counted in units of `2^-FRACTION_BITS` of the tree.
+const FRACTION_BITS: usize = 62;
+
+/// What the search found and what it cost.
+#[derive(Debug, Default)]
+pub(super) struct Tree {
+    /// The contact sets of the leaves (one flag per node).
+    pub leaves: Vec<Vec<bool>>,
+    /// Leaves and search nodes whose program could not be decided (explored as if feasible);
+    /// a leaf among them is kept, so nothing is lost, but the run is not certain.
+    pub undecided: u64,
+    /// Search nodes visited (leaves included).
+    pub nodes: u64,
+    /// Nodes that inherited their parent's solution.
+    pub inherited: u64,
+    /// Nodes pruned (their program infeasible).
+    pub pruned: u64,
+}
+
+pub(super) struct Search<'a, 'f> {
+    lp: &'a ContactLp<'f>,
+    control: &'a Control<'a>,
+    m: usize,
+    gap_of: &'a (dyn Fn(&[f64], usize) -> f64 + Sync),
+    leaves: Mutex<Vec<Vec<bool>>>,
+    undecided: AtomicU64,
+    nodes: AtomicU64,
+    inherited: AtomicU64,
+    pruned: AtomicU64,
+    /// The explored fraction of the tree, in units of `2^-FRACTION_BITS`.
+    explored: AtomicU64,
+}
+
+impl<'a, 'f> Search<'a, 'f> {
+    pub(super) fn new(
+        lp: &'a ContactLp<'f>,
+        control: &'a Control<'a>,
+        m: usize,
+        gap_of: &'a (dyn Fn(&[f64], usize) -> f64 + Sync),
+    ) -> Search<'a, 'f> {
+        Search {
+            lp,
+            control,
+            m,
+            gap_of,
+            leaves: Mutex::new(Vec::new()),
+            undecided: AtomicU64::new(0),
+            nodes: AtomicU64::new(0),
+            inherited: AtomicU64::new(0),
+            pruned: AtomicU64::new(0),
+            explored: AtomicU64::new(0),
+        }
+    }
+
+    /// The explored share of the tree, in `[0, 1]`.
+    pub(super) fn explored(&self) -> f64 {
+        self.explored.load(Ordering::Relaxed) as f64 / (1u64 << FRACTION_BITS) as f64
+    }
+
+    /// Leaves found so far.
+    pub(super) fn leaves_found(&self) -> usize {
+        self.leaves.lock().map_or(0, |l| l.len())
+    }
+
+    pub(super) fn run(&self) {
+        self.explore(vec![Class::Free; self.m], 0, None, None);
+    }
+
+    pub(super) fn finish(self) -> Tree {
+        Tree {
+            leaves: self.leaves.into_inner().unwrap_or_default(),
+            undecided: self.undecided.into_inner(),
+            nodes: self.nodes.into_inner(),
+            inherited: self.inherited.into_inner(),
+            pruned: self.pruned.into_inner(),
+        }
+    }
+
+    fn close(&self, depth: usize) {
+        if depth <= FRACTION_BITS {
+            self.explored
+                .fetch_add(1u64 << (FRACTION_BITS - depth), Ordering::Relaxed);
+        }
+    }
+
+    /// Explores the subtree of `classes`. `inherited` is a solution of its program handed down
+    /// by the parent (then nothing is solved); `warm` the parent's final basis.
+    fn explore(
+        &self,
+        classes: Vec<Class>,
+        depth: usize,
+        inherited: Option<Vec<f64>>,
+        warm: Option<Arc<Basis>>,
+    ) {
+        if self.control.must_stop(0) {
+            return;
+        }
+        self.nodes.fetch_add(1, Ordering::Relaxed);
+        let m = self.m;
+        let contact: Vec<usize> = (0..m).filter(|&i| classes[i] == Class::Contact).collect();
+        let free: Vec<usize> = (0..m).filter(|&i| classes[i] == Class::Free).collect();
+        if contact.is_empty() && free.is_empty() {
+            // Every node separated: only r = 0.
+            self.pruned.fetch_add(1, Ordering::Relaxed);
+            self.close(depth);
+            return;
+        }
+        let (witness, basis) = match inherited {
+            Some(r) => {
+                self.inherited.fetch_add(1, Ordering::Relaxed);
+                (Some(r), warm)
+            }
+            None => {
+                let norm = if contact.is_empty() {
+                    Norm::Sum
+                } else {
+                    Norm::Pressed(&contact)
+                };
+                let (decision, basis) = self.lp.decide(&classes, norm, warm.as_deref());
+                let basis = basis.map(Arc::new).or(warm);
+                match decision {
+                    Decision::No => {
+                        self.pruned.fetch_add(1, Ordering::Relaxed);
+                        self.close(depth);
+                        return;
+                    }
+                    Decision::Yes { r, .. } => (Some(r), basis),
+                    Decision::Unsure(_) => {
+                        self.undecided.fetch_add(1, Ordering::Relaxed);
+                        (None, basis)
+                    }
+                }
+            }
+        };
+        if free.is_empty() {
+            let leaf: Vec<bool> = classes.iter().map(|&c| c == Class::Contact).collect();
+            self.leaves.lock().expect("no panics while held").push(leaf);
+            self.close(depth);
+            return;
+        }
+        let branch = match &witness {
+            None => free[0],
+            Some(r) => {
+                let key = |i: usize| {
+                    let rn = r[2 * i];
+                    let gap = (self.gap_of)(r, i).max(0.0);
+                    (gap * rn, rn)
+                };
+                let order = |a: usize, b: usize| {
+                    let (x, y) = (key(a), key(b));
+                    x.0.total_cmp(&y.0).then(x.1.total_cmp(&y.1))
+                };
+                free.iter()
+                    .copied()
+                    .max_by(|&a, &b| order(a, b))
+                    .unwrap_or(free[0])
+            }
+        };
+        let (to_contact, to_separated) = match &witness {
+            Some(r) => {
+                let (gap, rn) = ((self.gap_of)(r, branch), r[2 * branch]);
+                let closed = gap.abs() <= INHERIT_ZERO;
+                let none = r[2 * branch..2 * branch + 2]
+                    .iter()
+                    .all(|x| x.abs() <= INHERIT_ZERO);
+                (
+                    (closed && rn > POSITIVE).then(|| r.clone()),
+                    none.then(|| r.clone()),
+                )
+            }
+            None => (None, None),
+        };
+        let mut contact_child = classes.clone();
+        contact_child[branch] = Class::Contact;
+        let mut separated_child = classes;
+        separated_child[branch] = Class::Separated;
+        let other = basis.clone();
+        rayon::join(
+            || self.explore(contact_child, depth + 1, to_contact, basis),
+            || self.explore(separated_child, depth + 1, to_separated, other),
+        );
+    }
+}
