@@ -2,7 +2,7 @@
 
 use super::*;
 use crate::args::*;
-use crate::report::json;
+use crate::report::files;
 use crate::report::summary;
 use wedged_cli::input::{mtx, problem_file};
 
@@ -13,7 +13,7 @@ pub(crate) fn run_condense(args: CondenseArgs) -> Result<(), Failure> {
     let mut text = summary::model(&source, &model);
     if let Some(path) = &args.mtx {
         let bytes = mtx::write_condensed(&model, &source);
-        json::write_atomic(path, bytes.as_bytes(), "Matrix Market file")
+        files::write_atomic(path, bytes.as_bytes(), "Matrix Market file")
             .map_err(|e| Failure::Input(e.to_string()))?;
         text.push_str(&format!(
             "condensed stiffness ({n} x {n}) written to {}\n",

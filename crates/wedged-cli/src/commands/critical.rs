@@ -13,7 +13,7 @@ use wedged::{
 use super::*;
 use crate::args::*;
 use crate::draw::sweep_svg;
-use crate::report::json::{JsonTarget, PendingFile};
+use crate::report::files::{JsonTarget, PendingFile};
 use crate::report::{self, summary};
 use wedged_cli::input::problem_file;
 

@@ -15,8 +15,8 @@ use super::*;
 use crate::args::*;
 use crate::draw::export;
 use crate::report::answer::{Answer, Choice};
+use crate::report::files::JsonTarget;
 use crate::report::json;
-use crate::report::json::JsonTarget;
 use crate::report::summary;
 use wedged_cli::input::problem_file;
 

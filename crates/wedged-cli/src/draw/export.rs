@@ -20,7 +20,7 @@ use crate::report::answer::Answer;
 
 use crate::draw::svg::svg_string;
 use crate::draw::vtk::{vtu_bytes, View};
-use crate::report::json::write_atomic;
+use crate::report::files::write_atomic;
 
 /// Creates `dir` (and its parents) and removes the `cone-N.<extension>` and
 /// `pattern-N.<extension>` files of an earlier run, so that the directory holds exactly this

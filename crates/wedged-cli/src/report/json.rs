@@ -1,4 +1,4 @@
-//! The JSON result, a fixed format that scripts can rely on, and its atomic writing.
+//! The JSON result, a fixed format that scripts can rely on (written by [`crate::report::files`]).
 //!
 //! ```text
 //! { "dim": 2, "mu": 1.0, "nodes": 4, "method": "pruned-dd",
@@ -18,7 +18,7 @@
 //!
 //! Every key is always there (`model` for a meshed body only), whatever the method:
 //!
-//! - A ray method (`pruned-dd`, `full-dd`, `faces`; 2D) fills `rays` and `cones`, and derives
+//! - A ray method (`pruned-dd`, `full-dd`, `faces`, `search`; 2D) fills `rays` and `cones`, and derives
 //!   `patterns` from the cones, one per cone in the same order (`patterns[N]` is `cones[N]`, and
 //!   the files `cone-N.*`): `pattern` is the cone's, `status` is
 //!   [`wedged::Enumeration::cone_status`], `(u, r)` is the cone's centroid (the mean of its
@@ -49,13 +49,10 @@
 //! rays and witnesses normalised to `sum r_n = 1`. The top level and the lists are laid out one
 //! item per line; each item is on one line.
 
-use std::fmt;
 use std::io::{self, Write};
-use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 use serde_json::ser::Formatter;
-use tempfile::NamedTempFile;
 use wedged::fe::Model;
 use wedged::patterns::{PatternInfo, Undecided};
 use wedged::{Info, Outcome, Problem};
@@ -294,6 +291,16 @@ pub struct RayInfoJson<'a> {
     pub candidates: u64,
     pub extreme_rays_total: usize,
     pub near_degenerate: u64,
+    pub search_nodes: u64,
+    pub search_inherited: u64,
+    pub search_pruned: u64,
+    pub search_leaves: u64,
+    pub search_undecided: u64,
+    pub search_undecided_faces: &'a [String],
+    pub largest_face: usize,
+    pub lp_solves: u64,
+    pub lp_pivots: u64,
+    pub lp_fallbacks: u64,
     pub seconds: f64,
     /// The process's peak resident memory (see [`peak_rss_bytes`]).
     pub peak_rss_bytes: Option<u64>,
@@ -315,6 +322,16 @@ impl<'a> From<&'a Info> for RayInfoJson<'a> {
             candidates,
             extreme_rays_total,
             near_degenerate,
+            search_nodes,
+            search_inherited,
+            search_pruned,
+            search_leaves,
+            search_undecided,
+            search_undecided_faces,
+            largest_face,
+            lp_solves,
+            lp_pivots,
+            lp_fallbacks,
             seconds,
         } = info;
         RayInfoJson {
@@ -330,6 +347,16 @@ impl<'a> From<&'a Info> for RayInfoJson<'a> {
             candidates: *candidates,
             extreme_rays_total: *extreme_rays_total,
             near_degenerate: *near_degenerate,
+            search_nodes: *search_nodes,
+            search_inherited: *search_inherited,
+            search_pruned: *search_pruned,
+            search_leaves: *search_leaves,
+            search_undecided: *search_undecided,
+            search_undecided_faces,
+            largest_face: *largest_face,
+            lp_solves: *lp_solves,
+            lp_pivots: *lp_pivots,
+            lp_fallbacks: *lp_fallbacks,
             seconds: *seconds,
             peak_rss_bytes: peak_rss_bytes(),
         }
@@ -541,147 +568,6 @@ impl Formatter for ShallowPretty {
         self.has_value = true;
         Ok(())
     }
-}
-
-/// Where `--json` sends the JSON. A file target holds its temporary file, created in the
-/// destination's directory before the run, and is renamed into place by [`JsonTarget::commit`].
-#[derive(Debug)]
-pub enum JsonTarget {
-    Stdout,
-    File { path: PathBuf, temp: NamedTempFile },
-}
-
-/// The JSON file could not be written; the message names it.
-#[derive(Debug)]
-pub struct WriteError(String);
-
-impl fmt::Display for WriteError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for WriteError {}
-
-impl JsonTarget {
-    /// `-` is stdout; anything else a file, whose temporary sibling is created now.
-    pub fn open(path: &Path) -> Result<JsonTarget, WriteError> {
-        if path == Path::new("-") {
-            return Ok(JsonTarget::Stdout);
-        }
-        let fail = |e: io::Error| {
-            WriteError(format!(
-                "{}: cannot write the JSON file: {e}",
-                path.display()
-            ))
-        };
-        if path.is_dir() {
-            return Err(WriteError(format!(
-                "{}: is a directory, not a JSON file name",
-                path.display()
-            )));
-        }
-        let temp = temp_beside(path).map_err(fail)?;
-        Ok(JsonTarget::File {
-            path: path.to_path_buf(),
-            temp,
-        })
-    }
-
-    /// Writes `text` to the temporary file and renames it over the destination. Stdout targets
-    /// are written by the caller.
-    pub fn commit(self, text: &str) -> Result<(), WriteError> {
-        let JsonTarget::File { path, mut temp } = self else {
-            return Ok(());
-        };
-        let fail = |e: io::Error| {
-            WriteError(format!(
-                "{}: cannot write the JSON file: {e}",
-                path.display()
-            ))
-        };
-        temp.write_all(text.as_bytes()).map_err(fail)?;
-        temp.as_file().sync_all().map_err(fail)?;
-        temp.persist(&path).map_err(|e| fail(e.error))?;
-        Ok(())
-    }
-}
-
-/// A temporary file in `path`'s directory (so that renaming it over `path` is atomic), with the
-/// permissions of an ordinary new file (0666 less the umask), not tempfile's 0600.
-fn temp_beside(path: &Path) -> io::Result<NamedTempFile> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(".wedged-").suffix(".tmp");
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(std::fs::Permissions::from_mode(0o666));
-    }
-    builder.tempfile_in(dir)
-}
-
-/// A file written atomically after a run (`wedged sweep --svg`): its temporary sibling is created
-/// before the run, so that an unwritable path fails before a long computation, and is renamed
-/// into place by [`PendingFile::commit`] (or removed when dropped uncommitted).
-#[derive(Debug)]
-pub struct PendingFile {
-    path: PathBuf,
-    temp: NamedTempFile,
-    what: &'static str,
-}
-
-impl PendingFile {
-    /// `what` names the file in errors ("SVG file").
-    pub fn open(path: &Path, what: &'static str) -> Result<PendingFile, WriteError> {
-        if path.is_dir() {
-            return Err(WriteError(format!(
-                "{}: is a directory, not a file name for the {what}",
-                path.display()
-            )));
-        }
-        let temp = temp_beside(path)
-            .map_err(|e| WriteError(format!("{}: cannot write the {what}: {e}", path.display())))?;
-        Ok(PendingFile {
-            path: path.to_path_buf(),
-            temp,
-            what,
-        })
-    }
-
-    pub fn path(&self) -> &Path {
-        &self.path
-    }
-
-    /// Writes `bytes` to the temporary file and renames it over the destination.
-    pub fn commit(self, bytes: &[u8]) -> Result<(), WriteError> {
-        let PendingFile {
-            path,
-            mut temp,
-            what,
-        } = self;
-        let fail =
-            |e: io::Error| WriteError(format!("{}: cannot write the {what}: {e}", path.display()));
-        temp.write_all(bytes).map_err(fail)?;
-        temp.as_file().sync_all().map_err(fail)?;
-        temp.persist(&path).map_err(|e| fail(e.error))?;
-        Ok(())
-    }
-}
-
-/// Writes `bytes` to `path` through a temporary sibling renamed into place, so that a reader
-/// never sees a half-written file. `what` names the file in errors ("VTU file").
-pub fn write_atomic(path: &Path, bytes: &[u8], what: &str) -> Result<(), WriteError> {
-    let fail =
-        |e: io::Error| WriteError(format!("{}: cannot write the {what}: {e}", path.display()));
-    let mut temp = temp_beside(path).map_err(fail)?;
-    temp.write_all(bytes).map_err(fail)?;
-    temp.as_file().sync_all().map_err(fail)?;
-    temp.persist(path).map_err(|e| fail(e.error))?;
-    Ok(())
 }
 
 #[cfg(test)]

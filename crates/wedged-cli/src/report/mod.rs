@@ -1,9 +1,10 @@
 //! What a run reports: the pieces of either kind of enumeration as one list ([`answer`]), the
 //! human-readable tables on stdout ([`summary`], and [`critical`] for `critical` and
-//! `sweep`), and the JSON files with their atomic writes ([`json`]).
+//! `sweep`), the JSON format ([`json`]) and atomic output files ([`files`]).
 
 pub mod answer;
 pub mod critical;
+pub mod files;
 pub mod json;
 pub mod summary;
 

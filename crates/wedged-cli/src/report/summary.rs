@@ -11,11 +11,12 @@ use std::path::{Path, PathBuf};
 
 use wedged::fe::{ElementKind, Model, Plane};
 use wedged::patterns::{PatternMethod, Patterns};
-use wedged::{ContactPattern, Enumeration, Info, NodeStatus, Outcome, Problem, Stop};
+use wedged::{ContactPattern, Enumeration, NodeStatus, Outcome, Problem, Stop};
 
 use crate::report::answer::{Answer, Certified, Choice};
 
 use crate::report::sig4;
+use info::info_line;
 
 /// Contact nodes listed one per line in the model summary; beyond, the JSON has them.
 const CONTACT_LIST_LIMIT: usize = 24;
@@ -24,8 +25,6 @@ const CONTACT_LIST_LIMIT: usize = 24;
 const FULL_NAMES_UP_TO: usize = 8;
 /// Rays or cones listed before the rest are left to the JSON.
 const LIST_LIMIT: usize = 50;
-/// Entries of `rays_after_node` printed on the info line.
-const INFO_LIST_LIMIT: usize = 20;
 
 const STATUS_LEGEND: &str = "o separated, s stick, + slip+, - slip-, g grazing";
 /// The legend of 3D statuses: slip is on the round friction cone, in no particular direction.
@@ -566,98 +565,6 @@ pub(crate) fn seconds_text(s: f64) -> String {
     }
 }
 
-/// Diagnostics worth reading, on one line; the zero counters of other methods are left out.
-fn info_line(info: &Info) -> String {
-    let mut parts = vec![format!(
-        "{}{}",
-        seconds_text(info.seconds),
-        crate::report::json::peak_memory_text()
-    )];
-    if !info.rays_after_node.is_empty() {
-        let shown: Vec<String> = info
-            .rays_after_node
-            .iter()
-            .take(INFO_LIST_LIMIT)
-            .map(|n| n.to_string())
-            .collect();
-        let rest = info.rays_after_node.len().saturating_sub(INFO_LIST_LIMIT);
-        let tail = if rest > 0 {
-            format!(" ... ({rest} more in --json)")
-        } else {
-            String::new()
-        };
-        parts.push(format!(
-            "rays kept after each node: {}{tail}",
-            shown.join(" ")
-        ));
-    }
-    if info.peak_rays > 0 {
-        parts.push(format!(
-            "peak {} ({})",
-            plural(info.peak_rays, "ray", "rays"),
-            wedged::run::bytes_text(info.peak_bytes)
-        ));
-    }
-    if info.pairs_tested > 0 {
-        parts.push(format!(
-            "{} tested ({} rejected by pattern, {} combinatorially)",
-            plural(info.pairs_tested as usize, "pair", "pairs"),
-            info.pairs_rejected_pattern,
-            info.pairs_rejected_combinatorial
-        ));
-    }
-    if info.adjacency_tests > 0 {
-        parts.push(plural(
-            info.adjacency_tests as usize,
-            "adjacency test",
-            "adjacency tests",
-        ));
-    }
-    if info.rays_created > 0 {
-        parts.push(plural(
-            info.rays_created as usize,
-            "ray created",
-            "rays created",
-        ));
-    }
-    if info.near_degenerate > 0 {
-        parts.push(plural(
-            info.near_degenerate as usize,
-            "near-degenerate sign decision",
-            "near-degenerate sign decisions",
-        ));
-    }
-    if info.extreme_rays_total > 0 {
-        parts.push(plural(
-            info.extreme_rays_total,
-            "extreme ray of C",
-            "extreme rays of C",
-        ));
-    }
-    if info.candidates > 0 {
-        parts.push(plural(
-            info.candidates as usize,
-            "candidate tight set",
-            "candidate tight sets",
-        ));
-    }
-    if info.search_nodes > 0 {
-        parts.push(format!(
-            "search tree: {} ({} pruned, {} inherited), {} (faces up to dimension {}); {} \
-             ({} pivots, {} passed to Clarabel)",
-            plural(info.search_nodes as usize, "node", "nodes"),
-            info.search_pruned,
-            info.search_inherited,
-            plural(info.search_leaves as usize, "leaf", "leaves"),
-            info.largest_face,
-            plural(info.lp_solves as usize, "linear program", "linear programs"),
-            info.lp_pivots,
-            info.lp_fallbacks
-        ));
-    }
-    parts.join("; ")
-}
-
 fn vector(v: &[f64]) -> String {
     format!(
         "({})",
@@ -801,5 +708,6 @@ pub fn files(
     out
 }
 
+mod info;
 #[cfg(test)]
 mod tests;

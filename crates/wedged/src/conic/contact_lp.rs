@@ -21,6 +21,10 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use super::program::{Class, Decision, Formulation, Goal, Norm};
 use super::simplex::{self, Answer, Basis, Lp};
 
+/// A warm start handed from a search node to its children: the simplex method's final basis,
+/// opaque outside `conic`.
+pub(crate) type Warm = Basis;
+
 /// The bound on the total pressure of [`ContactLp::support`]: an entry that no solution makes
 /// larger than `1 / (2 SUPPORT_SCALE)` of its total pressure counts as zero (a resolution
 /// below [`super::program::POSITIVE`]).
@@ -112,7 +116,13 @@ impl<'f> ContactLp<'f> {
         match answer {
             Answer::Optimal { x, .. } => {
                 self.counters.solves.fetch_add(1, Ordering::Relaxed);
-                (Decision::Yes { r: self.reactions(&x), value: 0.0 }, Some(basis))
+                (
+                    Decision::Yes {
+                        r: self.reactions(&x),
+                        value: 0.0,
+                    },
+                    Some(basis),
+                )
             }
             Answer::Infeasible { .. } => {
                 self.counters.solves.fetch_add(1, Ordering::Relaxed);
@@ -218,7 +228,10 @@ impl<'f> ContactLp<'f> {
             Answer::Infeasible { .. } => {
                 return Err("the support program is infeasible, but 0 solves it".into())
             }
-            Answer::Failed(why) => return Err(why),
+            Answer::Failed(why) => {
+                self.counters.fallbacks.fetch_add(1, Ordering::Relaxed);
+                return self.support_one_at_a_time(classes, &entries, &why);
+            }
         };
         let positive: Vec<Entry2> = entries
             .iter()
@@ -230,6 +243,55 @@ impl<'f> ContactLp<'f> {
             return Ok(None);
         }
         Ok(Some(LeafSupport { positive }))
+    }
+}
+
+impl ContactLp<'_> {
+    /// [`ContactLp::support`] when the simplex method cannot settle its program (an
+    /// ill-conditioned face): Clarabel pushes each entry up on its own, normalised by
+    /// `sum r_n = 1`, and an entry is positive when its largest value exceeds
+    /// [`super::program::POSITIVE`]. One program per entry, so only a fallback.
+    fn support_one_at_a_time(
+        &self,
+        classes: &[Class],
+        entries: &[Entry2],
+        why: &str,
+    ) -> Result<Option<LeafSupport>, String> {
+        let form = self.form;
+        let (m, mu) = (form.m, form.mu);
+        let mut positive = Vec::new();
+        for &e in entries {
+            // Minimise minus the entry, a linear function of the reactions:
+            // a_i = (r_n + r_t / mu) / 2, b_i = (r_n - r_t / mu) / 2.
+            let mut c = vec![0.0; 2 * m];
+            match e {
+                Entry2::Edge(col) => {
+                    let i = col / 2;
+                    let sign = if col % 2 == 0 { 1.0 } else { -1.0 };
+                    c[2 * i] = -0.5;
+                    c[2 * i + 1] = -0.5 * sign / mu;
+                }
+                Entry2::Gap(i) => {
+                    c.iter_mut().zip(form.gap_row(i)).for_each(|(a, g)| *a = -g);
+                }
+            }
+            match form.decide_at(classes, mu, Norm::Sum, Goal::Minimise(&c)) {
+                Decision::No => return Ok(None),
+                Decision::Unsure(e) => {
+                    return Err(format!(
+                        "the support program failed ({why}), and so did Clarabel ({e})"
+                    ))
+                }
+                Decision::Yes { r, .. } => {
+                    // The program reports no value for this goal: the entry at its optimum.
+                    let value: f64 = c.iter().zip(&r).map(|(a, b)| -a * b).sum();
+                    if value > super::program::POSITIVE {
+                        positive.push(e);
+                    }
+                }
+            }
+        }
+        Ok((!positive.is_empty()).then_some(LeafSupport { positive }))
     }
 }
 
@@ -246,4 +308,20 @@ pub(crate) enum Entry2 {
 pub(crate) struct LeafSupport {
     /// The entries some solution makes positive.
     pub positive: Vec<Entry2>,
+}
+
+impl LeafSupport {
+    /// Every friction edge of the nodes with a reaction and every gap of the others: the
+    /// support assumed when it cannot be decided.
+    pub(crate) fn everything(classes: &[Class]) -> LeafSupport {
+        let mut positive = Vec::new();
+        for (i, &c) in classes.iter().enumerate() {
+            if c.has_r() {
+                positive.extend([Entry2::Edge(2 * i), Entry2::Edge(2 * i + 1)]);
+            } else {
+                positive.push(Entry2::Gap(i));
+            }
+        }
+        LeafSupport { positive }
+    }
 }

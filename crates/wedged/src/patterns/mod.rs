@@ -565,4 +565,3 @@ pub(crate) fn leaf_pattern(
     }
     Ok(Some(pattern_of(form.m, &support.entries)))
 }
-

@@ -118,13 +118,23 @@ pub fn enumerate_with_control(
         }
     };
     let mut rays = exact_rays;
+    // Rays are polished and verified in equilibrated units (node scales by powers of two, so
+    // exact): the rank and sign decisions of the check then do not depend on the units of
+    // each node, as the answer must not. They are reported in the problem's own units.
+    let (scaled, t) = if raw.is_empty() {
+        (problem.clone(), vec![1.0; problem.nodes()])
+    } else {
+        problem.equilibrated()
+    };
     for raw_ray in raw {
-        rays.push(polish_and_verify(
-            problem,
-            &raw_ray.r,
-            raw_ray.status,
-            settings.zero_tol,
-        )?);
+        let r: Vec<f64> = raw_ray
+            .r
+            .iter()
+            .enumerate()
+            .map(|(a, x)| x * t[a / 2])
+            .collect();
+        let ray = polish_and_verify(&scaled, &r, raw_ray.status, settings.zero_tol)?;
+        rays.push(in_units_of(ray, &t));
     }
     rays.sort_by(|a, b| a.status.cmp(&b.status));
     rays.dedup_by(|a, b| a.status == b.status);
@@ -140,6 +150,34 @@ pub fn enumerate_with_control(
         cones,
         info,
     })
+}
+
+/// A ray of the equilibrated problem (node scales `t`) in the problem's own units: `r = T^-1 r'`,
+/// `u = T u'`, renormalised to `sum r_n = 1`.
+fn in_units_of(ray: Ray, t: &[f64]) -> Ray {
+    if t.iter().all(|&x| x == 1.0) {
+        return ray;
+    }
+    let mut r: Vec<f64> = ray
+        .r
+        .iter()
+        .enumerate()
+        .map(|(a, x)| x / t[a / 2])
+        .collect();
+    let mut u: Vec<f64> = ray
+        .u
+        .iter()
+        .enumerate()
+        .map(|(a, x)| x * t[a / 2])
+        .collect();
+    let total: f64 = r.iter().step_by(2).sum();
+    r.iter_mut().for_each(|x| *x /= total);
+    u.iter_mut().for_each(|x| *x /= total);
+    Ray {
+        u,
+        r,
+        status: ray.status,
+    }
 }
 
 /// The maximal cross-complementary sets of `rays`, each with its pattern, in canonical order.

@@ -111,7 +111,8 @@ pub struct Info {
     pub extreme_rays_total: usize,
     /// Close calls among the floating-point sign decisions of `u_n_i` at a held ray (pruned-dd,
     /// full-dd): values within a factor of 100 of the zero tolerance, on either side. They were
-    /// decided by the tolerance; `--certify` checks the reported rays exactly.
+    /// decided by the tolerance; `--certify` checks the reported rays exactly. For search: the
+    /// faces whose support no solver settled, described by the tolerance alone.
     pub near_degenerate: u64,
     /// Search nodes visited, leaves included (search).
     pub search_nodes: u64,

@@ -1,6 +1,7 @@
 //! Tests of `summary.rs`.
 
 use super::*;
+use wedged::Info;
 
 #[test]
 fn ranges_shorten_runs() {

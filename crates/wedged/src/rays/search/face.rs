@@ -37,6 +37,8 @@ pub(super) struct FaceStats {
     pub dim: usize,
     /// Most rays held at once.
     pub peak: usize,
+    /// The face was described without its support (neither solver settled it).
+    pub close: bool,
 }
 
 /// The row of the friction edge `col` (`2i` for `a_i`, `2i + 1` for `b_i`) of a gap row over
@@ -97,7 +99,9 @@ pub(super) fn rays(
     }
     // Inequalities `B N y >= 0`: the edges (identity rows), then the gaps that open.
     let mut labels: Vec<Entry2> = cols.iter().map(|&c| Entry2::Edge(c)).collect();
-    let mut b_rows: Vec<Vec<f64>> = (0..nv).map(|c| basis.row(c).iter().copied().collect()).collect();
+    let mut b_rows: Vec<Vec<f64>> = (0..nv)
+        .map(|c| basis.row(c).iter().copied().collect())
+        .collect();
     for i in (0..m).filter(|&i| classes[i] == Class::Separated && positive(Entry2::Gap(i))) {
         let g = on_edges(form.gap_row(i), mu, &cols);
         let row: Vec<f64> = (0..k)
@@ -160,7 +164,14 @@ pub(super) fn rays(
             .collect();
         out.push(FaceRay { r, status });
     }
-    Ok((out, FaceStats { dim: k, peak }))
+    Ok((
+        out,
+        FaceStats {
+            dim: k,
+            peak,
+            close: false,
+        },
+    ))
 }
 
 /// A bit set over the rows.

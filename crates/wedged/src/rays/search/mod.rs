@@ -12,8 +12,10 @@
 //!    of the contact set it presses, so the union over the leaves is all of them.
 //!
 //! The rays go to the common finishing step (recomputed from their status, verified, cliques).
-//! A program that neither the simplex method nor Clarabel decides does not prune; a leaf whose
-//! support cannot be decided makes the run incomplete ([`crate::Stop::Undecided`]).
+//! A program that neither the simplex method nor Clarabel decides does not prune. A leaf whose
+//! support neither decides has its face described without it (every edge and gap possibly
+//! positive; counted in `info.near_degenerate`); a face whose double description fails makes
+//! the run incomplete ([`crate::Stop::Undecided`]).
 
 mod face;
 mod tree;
@@ -23,7 +25,7 @@ use std::collections::HashSet;
 use rayon::prelude::*;
 
 use super::params::{Info, Progress, RawRay, Settings};
-use crate::conic::contact_lp::ContactLp;
+use crate::conic::contact_lp::{ContactLp, LeafSupport};
 use crate::conic::program::{Class, Formulation};
 use crate::problem::Problem;
 use crate::run::{with_progress, Control, Stop};
@@ -61,20 +63,34 @@ pub(crate) fn run(
     let mut undecided = false;
     // The faces of the leaves, in parallel.
     let tol = settings.zero_tol;
-    let faces: Vec<Result<(Vec<face::FaceRay>, face::FaceStats), String>> = tree
-        .leaves
-        .par_iter()
-        .map(|contact| {
-            let classes: Vec<Class> = contact
-                .iter()
-                .map(|&c| if c { Class::Contact } else { Class::Separated })
-                .collect();
-            match lp.support(&classes)? {
-                None => Ok((Vec::new(), face::FaceStats::default())),
-                Some(support) => face::rays(&form, &classes, &support, tol),
-            }
-        })
-        .collect();
+    let faces: Vec<Result<(Vec<face::FaceRay>, face::FaceStats), String>> =
+        tree.leaves
+            .par_iter()
+            .map(|contact| {
+                let classes: Vec<Class> = contact
+                    .iter()
+                    .map(|&c| if c { Class::Contact } else { Class::Separated })
+                    .collect();
+                match lp.support(&classes) {
+                    Ok(None) => Ok((Vec::new(), face::FaceStats::default())),
+                    Ok(Some(support)) => face::rays(&form, &classes, &support, tol),
+                    // Neither solver settles the support (an ill-conditioned face): every edge and
+                    // gap is taken as possibly positive, and the double description, which needs
+                    // no full-dimensional cone, decides the zeros by its tolerance (as pruned-dd
+                    // does everywhere). Counted as a close call.
+                    Err(_) => face::rays(&form, &classes, &LeafSupport::everything(&classes), tol)
+                        .map(|(rays, stats)| {
+                            (
+                                rays,
+                                face::FaceStats {
+                                    close: true,
+                                    ..stats
+                                },
+                            )
+                        }),
+                }
+            })
+            .collect();
     let mut seen: HashSet<Vec<NodeStatus>> = HashSet::new();
     let mut rays = Vec::new();
     for face in faces {
@@ -82,6 +98,7 @@ pub(crate) fn run(
             Ok((found, stats)) => {
                 info.peak_rays = info.peak_rays.max(stats.peak);
                 info.largest_face = info.largest_face.max(stats.dim);
+                info.near_degenerate += u64::from(stats.close);
                 for ray in found {
                     if seen.insert(ray.status.clone()) {
                         // Back to the problem's own units (the status is unchanged).
@@ -104,8 +121,17 @@ pub(crate) fn run(
             }
         }
     }
-    info.lp_solves = lp.counters.solves.load(std::sync::atomic::Ordering::Relaxed);
-    info.lp_pivots = lp.counters.pivots.load(std::sync::atomic::Ordering::Relaxed);
-    info.lp_fallbacks = lp.counters.fallbacks.load(std::sync::atomic::Ordering::Relaxed);
+    info.lp_solves = lp
+        .counters
+        .solves
+        .load(std::sync::atomic::Ordering::Relaxed);
+    info.lp_pivots = lp
+        .counters
+        .pivots
+        .load(std::sync::atomic::Ordering::Relaxed);
+    info.lp_fallbacks = lp
+        .counters
+        .fallbacks
+        .load(std::sync::atomic::Ordering::Relaxed);
     (rays, undecided.then_some(Stop::Undecided))
 }

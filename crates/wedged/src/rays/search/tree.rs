@@ -22,8 +22,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use crate::conic::contact_lp::ContactLp;
+use crate::conic::contact_lp::Warm as Basis;
 use crate::conic::program::{Class, Decision, Norm, POSITIVE};
-use crate::conic::simplex::Basis;
 use crate::run::Control;
 
 /// A solution's gap or reaction component at most this (with `sum r_n = 1`, gaps scaled) counts

@@ -1,0 +1,150 @@
+//! Output files written atomically: a temporary sibling of the destination, renamed into place,
+//! so that a reader never sees a half-written file and an unwritable path fails before a long
+//! run ([`JsonTarget`], [`PendingFile`]) or names itself after it ([`write_atomic`]).
+
+use std::fmt;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+
+use tempfile::NamedTempFile;
+
+/// Where `--json` sends the JSON. A file target holds its temporary file, created in the
+/// destination's directory before the run, and is renamed into place by [`JsonTarget::commit`].
+#[derive(Debug)]
+pub enum JsonTarget {
+    Stdout,
+    File { path: PathBuf, temp: NamedTempFile },
+}
+
+/// The JSON file could not be written; the message names it.
+#[derive(Debug)]
+pub struct WriteError(String);
+
+impl fmt::Display for WriteError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for WriteError {}
+
+impl JsonTarget {
+    /// `-` is stdout; anything else a file, whose temporary sibling is created now.
+    pub fn open(path: &Path) -> Result<JsonTarget, WriteError> {
+        if path == Path::new("-") {
+            return Ok(JsonTarget::Stdout);
+        }
+        let fail = |e: io::Error| {
+            WriteError(format!(
+                "{}: cannot write the JSON file: {e}",
+                path.display()
+            ))
+        };
+        if path.is_dir() {
+            return Err(WriteError(format!(
+                "{}: is a directory, not a JSON file name",
+                path.display()
+            )));
+        }
+        let temp = temp_beside(path).map_err(fail)?;
+        Ok(JsonTarget::File {
+            path: path.to_path_buf(),
+            temp,
+        })
+    }
+
+    /// Writes `text` to the temporary file and renames it over the destination. Stdout targets
+    /// are written by the caller.
+    pub fn commit(self, text: &str) -> Result<(), WriteError> {
+        let JsonTarget::File { path, mut temp } = self else {
+            return Ok(());
+        };
+        let fail = |e: io::Error| {
+            WriteError(format!(
+                "{}: cannot write the JSON file: {e}",
+                path.display()
+            ))
+        };
+        temp.write_all(text.as_bytes()).map_err(fail)?;
+        temp.as_file().sync_all().map_err(fail)?;
+        temp.persist(&path).map_err(|e| fail(e.error))?;
+        Ok(())
+    }
+}
+
+/// A temporary file in `path`'s directory (so that renaming it over `path` is atomic), with the
+/// permissions of an ordinary new file (0666 less the umask), not tempfile's 0600.
+fn temp_beside(path: &Path) -> io::Result<NamedTempFile> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".wedged-").suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    builder.tempfile_in(dir)
+}
+
+/// A file written atomically after a run (`wedged sweep --svg`): its temporary sibling is created
+/// before the run, so that an unwritable path fails before a long computation, and is renamed
+/// into place by [`PendingFile::commit`] (or removed when dropped uncommitted).
+#[derive(Debug)]
+pub struct PendingFile {
+    path: PathBuf,
+    temp: NamedTempFile,
+    what: &'static str,
+}
+
+impl PendingFile {
+    /// `what` names the file in errors ("SVG file").
+    pub fn open(path: &Path, what: &'static str) -> Result<PendingFile, WriteError> {
+        if path.is_dir() {
+            return Err(WriteError(format!(
+                "{}: is a directory, not a file name for the {what}",
+                path.display()
+            )));
+        }
+        let temp = temp_beside(path)
+            .map_err(|e| WriteError(format!("{}: cannot write the {what}: {e}", path.display())))?;
+        Ok(PendingFile {
+            path: path.to_path_buf(),
+            temp,
+            what,
+        })
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Writes `bytes` to the temporary file and renames it over the destination.
+    pub fn commit(self, bytes: &[u8]) -> Result<(), WriteError> {
+        let PendingFile {
+            path,
+            mut temp,
+            what,
+        } = self;
+        let fail =
+            |e: io::Error| WriteError(format!("{}: cannot write the {what}: {e}", path.display()));
+        temp.write_all(bytes).map_err(fail)?;
+        temp.as_file().sync_all().map_err(fail)?;
+        temp.persist(&path).map_err(|e| fail(e.error))?;
+        Ok(())
+    }
+}
+
+/// Writes `bytes` to `path` through a temporary sibling renamed into place, so that a reader
+/// never sees a half-written file. `what` names the file in errors ("VTU file").
+pub fn write_atomic(path: &Path, bytes: &[u8], what: &str) -> Result<(), WriteError> {
+    let fail =
+        |e: io::Error| WriteError(format!("{}: cannot write the {what}: {e}", path.display()));
+    let mut temp = temp_beside(path).map_err(fail)?;
+    temp.write_all(bytes).map_err(fail)?;
+    temp.as_file().sync_all().map_err(fail)?;
+    temp.persist(path).map_err(|e| fail(e.error))?;
+    Ok(())
+}
