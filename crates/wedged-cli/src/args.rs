@@ -281,6 +281,7 @@ impl ValueEnum for MethodArg {
                 faces: DEFAULT_PYRAMID_FACES,
             }),
             MethodArg::Patterns(PatternMethod::Faces),
+            MethodArg::Patterns(PatternMethod::Search),
         ]
     }
 
@@ -309,6 +310,10 @@ impl ValueEnum for MethodArg {
             }
             MethodArg::Patterns(PatternMethod::Faces) => {
                 "patterns (2D, 3D): brute force over the 2^m contact sets (m <= 12)"
+            }
+            MethodArg::Patterns(PatternMethod::Search) => {
+                "patterns (2D): depth-first search over contact sets (warm-started simplex), \
+                 no rays; for large meshes"
             }
         };
         Some(PossibleValue::new(self.name()).help(help))

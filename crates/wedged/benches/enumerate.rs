@@ -1,4 +1,6 @@
-//! `cargo bench -p wedged --bench enumerate`: pruned-dd against full-dd, and pruned-dd's growth.
+//! `cargo bench -p wedged --bench enumerate`: pruned-dd against full-dd, pruned-dd's growth,
+//! and the contact-set search against pruned-dd (random m = 9 at mu = 1.5, and the triangle
+//! plug of issue 20, [`plug2d_tri`], at mu = 2).
 //!
 //! Problems: `K = A A^T + diag` with `A` a seeded uniform `2m x 2m` matrix, `mu = 1`
 //! ([`random_spd_problem`]). The kept-ray counts per node are printed once per size (they are
@@ -6,8 +8,8 @@
 //! `cargo run --release -p wedged --example scale -- 18 1 2024` instead (see BENCHMARKS.md).
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use wedged::examples::random_spd_problem;
-use wedged::{enumerate, Method, Settings};
+use wedged::examples::{plug2d_tri, random_spd_problem};
+use wedged::{enumerate, Method, Problem, Settings};
 
 fn settings(method: Method) -> Settings {
     Settings {
@@ -55,5 +57,43 @@ fn pruned_growth(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, pruned_vs_full, pruned_growth);
+fn search_vs_pruned(c: &mut Criterion) {
+    let mut group = c.benchmark_group("search");
+    group.sample_size(10);
+    let random = random_spd_problem(9, 1.5, 2024);
+    let plug = |n: usize| {
+        let model = plug2d_tri(n).unwrap();
+        Problem::new(2, model.k().clone(), 2.0).unwrap()
+    };
+    // (name, problem, whether pruned-dd is run too: at m = 20 it takes about 40 s.)
+    let cases = [
+        ("random_m9", random, true),
+        ("plug_tri_m16", plug(8), true),
+        ("plug_tri_m20", plug(10), false),
+        ("plug_tri_m30", plug(15), false),
+    ];
+    for (name, p, with_pruned) in &cases {
+        let e = enumerate(p, &settings(Method::Search)).unwrap();
+        eprintln!(
+            "{name}: {} rays, {} cones, {} search nodes, {} leaves",
+            e.rays.len(),
+            e.cones.len(),
+            e.info.search_nodes,
+            e.info.search_leaves
+        );
+        let methods: &[Method] = if *with_pruned {
+            &[Method::Search, Method::PrunedDd]
+        } else {
+            &[Method::Search]
+        };
+        for &method in methods {
+            group.bench_function(BenchmarkId::new(method.name(), name), |b| {
+                b.iter(|| enumerate(p, &settings(method)).unwrap())
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, pruned_vs_full, pruned_growth, search_vs_pruned);
 criterion_main!(benches);

@@ -20,7 +20,10 @@ use wedged::{
 /// (the pyramid's completeness rests on floating-point double description and is not
 /// certified).
 fn run(problem: &Problem, method: PatternMethod) -> Patterns {
-    let certify = !matches!(method, PatternMethod::Pyramid { .. });
+    let certify = !matches!(
+        method,
+        PatternMethod::Pyramid { .. } | PatternMethod::Search
+    );
     let settings = PatternSettings {
         method,
         certify,
@@ -178,6 +181,7 @@ fn patterns_of_2d_problems_are_the_cones_of_the_2d_enumeration() {
             PatternMethod::Bnb,
             PatternMethod::Faces,
             PatternMethod::Pyramid { faces: 8 },
+            PatternMethod::Search,
         ] {
             let patterns = run(&problem, method);
             assert_eq!(pattern_list(&patterns), cones, "{method}, case {case}");

@@ -1,7 +1,8 @@
-//! The contact-set search (`Method::Search`) against the seed's pruned double description on
-//! seeded random problems, and its invariances: renumbered nodes, flipped tangents, nodes
-//! rescaled by factors from `2^-20` to `2^20`. (`tests/agreement.rs` also runs it beside
-//! every other method on its families.)
+//! The contact-set search (`Method::Search`, and `PatternMethod::Search` without rays) against
+//! the seed's pruned double description on seeded random problems and the triangle plug, and
+//! their invariances: renumbered nodes, flipped tangents, nodes rescaled by factors from
+//! `2^-20` to `2^20`. (`tests/agreement.rs` also runs the ray method beside every other method
+//! on its families, `tests/patterns.rs` the pattern method beside the other pattern methods.)
 
 mod common;
 
@@ -9,7 +10,10 @@ use common::random_spd;
 use nalgebra::DMatrix;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use wedged::{enumerate, Enumeration, Method, NodeStatus, Outcome, Problem, Settings};
+use wedged::patterns::{enumerate_patterns, PatternMethod, PatternSettings, Patterns};
+use wedged::{
+    enumerate, ContactPattern, Enumeration, Method, NodeStatus, Outcome, Problem, Settings,
+};
 
 fn run(problem: &Problem, method: Method) -> Enumeration {
     let e = enumerate(
@@ -116,4 +120,115 @@ fn search_is_invariant_under_renumbering_flips_and_node_scales() {
         );
         assert_eq!(base.cones.len(), e.cones.len(), "trial {trial}");
     }
+}
+
+fn pattern_search(problem: &Problem) -> Patterns {
+    let p = enumerate_patterns(
+        problem,
+        &PatternSettings {
+            method: PatternMethod::Search,
+            ..PatternSettings::default()
+        },
+    )
+    .unwrap_or_else(|e| panic!("pattern-search failed: {e}\nK = {}", problem.stiffness()));
+    assert!(
+        !matches!(p.outcome, Outcome::Incomplete(_)),
+        "pattern-search incomplete: {:?}",
+        p.undecided
+    );
+    p
+}
+
+/// The cones' patterns of a ray enumeration, sorted (the pattern methods sort theirs).
+fn cone_patterns(e: &Enumeration) -> Vec<Vec<ContactPattern>> {
+    let mut c: Vec<_> = e.cones.iter().map(|c| c.pattern.clone()).collect();
+    c.sort();
+    c
+}
+
+fn patterns_of(p: &Patterns) -> Vec<Vec<ContactPattern>> {
+    p.patterns.iter().map(|q| q.pattern.clone()).collect()
+}
+
+/// The pieces of `pattern-search` are the cones of pruned-dd (which shares no code with it),
+/// with the statuses of the cones' relative interiors, on 300 seeded instances up to m = 9.
+#[test]
+fn pattern_search_finds_the_cones_of_pruned_dd_on_300_random_instances() {
+    let mut rng = ChaCha8Rng::seed_from_u64(4096);
+    let (mut wedged, mut pieces) = (0, 0);
+    for trial in 0..300 {
+        let m = 2 + trial % 8;
+        let mu = [0.5, 1.0, 1.5, 2.0, 3.0][trial % 5] * rng.gen_range(0.8..1.25);
+        let p = Problem::new(2, random_spd(&mut rng, 2 * m), mu).unwrap();
+        let rays = run(&p, Method::PrunedDd);
+        let found = pattern_search(&p);
+        let what = format!("trial {trial} (m = {m}, mu = {mu})");
+        assert_eq!(rays.outcome, found.outcome, "{what}");
+        assert_eq!(cone_patterns(&rays), patterns_of(&found), "{what}");
+        for q in &found.patterns {
+            let cone = rays.cones.iter().find(|c| c.pattern == q.pattern).unwrap();
+            assert_eq!(q.status, rays.cone_status(cone), "{what}");
+        }
+        wedged += (found.outcome == Outcome::Wedged) as usize;
+        pieces += found.patterns.len();
+    }
+    assert!(wedged > 100 && wedged < 300, "wedged in {wedged} of 300");
+    assert!(pieces > 300, "{pieces} pieces in all");
+}
+
+/// The triangle plug of issue 20 at m = 16 (`n = 8`): the same pieces as pruned-dd's cones, from
+/// both search methods. (m = 20 was compared once by hand: 5 pieces, 527 rays, equal.)
+#[test]
+fn both_searches_agree_with_pruned_dd_on_the_triangle_plug() {
+    let model = wedged::examples::plug2d_tri(8).unwrap();
+    let p = Problem::new(2, model.k().clone(), 2.0).unwrap();
+    assert_eq!(p.nodes(), 16);
+    let truth = run(&p, Method::PrunedDd);
+    let rays = run(&p, Method::Search);
+    assert_eq!(statuses(&truth), statuses(&rays));
+    assert_eq!(truth.cones, rays.cones);
+    assert!(truth.cones.len() >= 2, "{} cones", truth.cones.len());
+    assert_eq!(cone_patterns(&truth), patterns_of(&pattern_search(&p)));
+}
+
+/// Renumbered nodes, flipped tangents, node scales from `2^-20` to `2^20` and a scaled `K` do
+/// not change the pieces of `pattern-search`.
+#[test]
+fn pattern_search_is_invariant_under_renumbering_flips_and_node_scales() {
+    let mut rng = ChaCha8Rng::seed_from_u64(78);
+    let mut nonempty = 0;
+    for trial in 0..60 {
+        let m = 2 + trial % 7;
+        let k = random_spd(&mut rng, 2 * m);
+        let mu = rng.gen_range(0.5..3.0);
+        let base = pattern_search(&Problem::new(2, k.clone(), mu).unwrap());
+        let mut order: Vec<usize> = (0..m).collect();
+        for i in (1..m).rev() {
+            order.swap(i, rng.gen_range(0..=i));
+        }
+        let flip: Vec<bool> = (0..m).map(|_| rng.gen_bool(0.5)).collect();
+        let scale: Vec<f64> = (0..m).map(|_| 2f64.powi(rng.gen_range(-20..=20))).collect();
+        let whole = 2f64.powi(rng.gen_range(-30..=30));
+        let k2 = transformed(&k, &order, &flip, &scale) * whole;
+        let e = pattern_search(&Problem::new(2, k2, mu).unwrap());
+        let mut mapped: Vec<Vec<ContactPattern>> = e
+            .patterns
+            .iter()
+            .map(|q| {
+                let mut s = vec![ContactPattern::Grazing; m];
+                for (new, &old) in order.iter().enumerate() {
+                    s[old] = q.pattern[new];
+                }
+                s
+            })
+            .collect();
+        mapped.sort();
+        assert_eq!(
+            patterns_of(&base),
+            mapped,
+            "trial {trial}: order {order:?}, scales {scale:?}"
+        );
+        nonempty += !mapped.is_empty() as usize;
+    }
+    assert!(nonempty > 15, "{nonempty}");
 }

@@ -36,6 +36,7 @@ fn method_names_are_the_library_names() {
             PatternMethod::Bnb,
             PatternMethod::Pyramid { faces: 8 },
             PatternMethod::Faces,
+            PatternMethod::Search,
         ]
         .map(PatternMethod::name),
     );

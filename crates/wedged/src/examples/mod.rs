@@ -73,6 +73,23 @@ pub fn plug2d(nx: usize, ny: usize) -> Result<crate::fe::Model, crate::fe::FeErr
     steel_plug(mesh)
 }
 
+/// The plug of issue 20's scale study: the plug of [`plug2d`] on an `n x n` triangle mesh (each
+/// quadrilateral cut in two), `m = 2n` contact nodes. (Its units do not matter: scaling `K` does
+/// not change the rays, pieces or `mu*`.)
+pub fn plug2d_tri(n: usize) -> Result<crate::fe::Model, crate::fe::FeError> {
+    use crate::fe::generate::Plug2d;
+    let mesh = Plug2d {
+        bottom_width: 1.0,
+        top_width: 2.0,
+        height: 1.0,
+        nx: n,
+        ny: n,
+        simplices: true,
+    }
+    .mesh()?;
+    steel_plug(mesh)
+}
+
 /// The condensation benchmark bodies: a wide, shallow 2D plug (bottom width 10, top width 12,
 /// height 1, nearly square elements) and a wide 3D V-groove plug (bottom width 30, top width 32,
 /// height 1, length 8), each steel, top clamped, both slanted sides in contact. Sizes in

@@ -82,6 +82,14 @@ pub(crate) fn certify(
                 .to_string(),
         );
     }
+    if let PatternMethod::Search = method {
+        failures.push(
+            "the pattern-search method prunes on the simplex method's certificates, which are \
+             not yet kept for an exact check, so its completeness is not certified (use bnb or \
+             pattern-faces)"
+                .to_string(),
+        );
+    }
     if !complete {
         failures.push("the run is incomplete, so completeness is not certified".to_string());
     }

@@ -28,6 +28,7 @@ mod certify;
 mod faces;
 
 mod pyramid;
+mod search;
 
 use std::fmt;
 use std::sync::atomic::AtomicBool;
@@ -60,6 +61,10 @@ pub enum PatternMethod {
     Pyramid { faces: usize },
     /// Brute force over all `2^m` contact sets (a test baseline, `m <= 12`).
     Faces,
+    /// 2D only: the depth-first search over contact sets of the `search` ray method, each
+    /// branch decided by a warm-started simplex method; a leaf's pattern comes from its support
+    /// program. No rays: the work follows the pieces, not their extreme rays.
+    Search,
 }
 
 impl PatternMethod {
@@ -69,6 +74,7 @@ impl PatternMethod {
             PatternMethod::Bnb => "bnb",
             PatternMethod::Pyramid { .. } => "pyramid",
             PatternMethod::Faces => "pattern-faces",
+            PatternMethod::Search => "pattern-search",
         }
     }
 }
@@ -220,6 +226,13 @@ pub fn enumerate_patterns_with_control(
             )))
         }
         PatternMethod::Pyramid { faces } => check_faces(faces)?,
+        PatternMethod::Search if problem.dim() != 2 => {
+            return Err(EnumerateError::InvalidSettings(format!(
+                "the pattern-search method is 2D (its friction cones are polyhedral); this \
+                 problem is {}D (use bnb)",
+                problem.dim()
+            )))
+        }
         _ => {}
     }
     let start = Instant::now();
@@ -245,6 +258,7 @@ pub fn enumerate_patterns_with_control(
         match settings.method {
             PatternMethod::Bnb => bnb::run(&form, &mut info, progress, &control),
             PatternMethod::Faces => faces::run(&form, &mut info, &control),
+            PatternMethod::Search => search::run(&form, &mut info, progress, &control),
             PatternMethod::Pyramid { faces } => pyramid::run(
                 &form,
                 faces,

@@ -21,7 +21,7 @@ pub mod exact;
 pub mod exact_ray;
 mod faces;
 pub(crate) mod params;
-mod search;
+pub(crate) mod search;
 pub mod verify;
 
 use std::sync::atomic::AtomicBool;

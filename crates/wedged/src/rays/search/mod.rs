@@ -18,7 +18,7 @@
 //! the run incomplete ([`crate::Stop::Undecided`]).
 
 mod face;
-mod tree;
+pub(crate) mod tree;
 
 use std::collections::HashSet;
 

@@ -35,7 +35,7 @@ const FRACTION_BITS: usize = 62;
 
 /// What the search found and what it cost.
 #[derive(Debug, Default)]
-pub(super) struct Tree {
+pub(crate) struct Tree {
     /// The contact sets of the leaves (one flag per node).
     pub leaves: Vec<Vec<bool>>,
     /// Leaves and search nodes whose program could not be decided (explored as if feasible);
@@ -49,7 +49,7 @@ pub(super) struct Tree {
     pub pruned: u64,
 }
 
-pub(super) struct Search<'a, 'f> {
+pub(crate) struct Search<'a, 'f> {
     lp: &'a ContactLp<'f>,
     control: &'a Control<'a>,
     m: usize,
@@ -64,7 +64,7 @@ pub(super) struct Search<'a, 'f> {
 }
 
 impl<'a, 'f> Search<'a, 'f> {
-    pub(super) fn new(
+    pub(crate) fn new(
         lp: &'a ContactLp<'f>,
         control: &'a Control<'a>,
         m: usize,
@@ -85,20 +85,20 @@ impl<'a, 'f> Search<'a, 'f> {
     }
 
     /// The explored share of the tree, in `[0, 1]`.
-    pub(super) fn explored(&self) -> f64 {
+    pub(crate) fn explored(&self) -> f64 {
         self.explored.load(Ordering::Relaxed) as f64 / (1u64 << FRACTION_BITS) as f64
     }
 
     /// Leaves found so far.
-    pub(super) fn leaves_found(&self) -> usize {
+    pub(crate) fn leaves_found(&self) -> usize {
         self.leaves.lock().map_or(0, |l| l.len())
     }
 
-    pub(super) fn run(&self) {
+    pub(crate) fn run(&self) {
         self.explore(vec![Class::Free; self.m], 0, None, None);
     }
 
-    pub(super) fn finish(self) -> Tree {
+    pub(crate) fn finish(self) -> Tree {
         Tree {
             leaves: self.leaves.into_inner().unwrap_or_default(),
             undecided: self.undecided.into_inner(),
