@@ -41,7 +41,7 @@ fn bench(c: &mut Criterion) {
     two.sample_size(10);
     two.measurement_time(Duration::from_secs(60));
     let model = plug2d(10, 8).unwrap();
-    let problem = Problem::new(2, model.k().clone(), 2.0).unwrap();
+    let problem = model.problem(2.0).unwrap();
     assert_eq!(problem.nodes(), 16);
     for method in [CriticalMethod::Bnb, CriticalMethod::Enumerate] {
         two.bench_function(format!("plug2d_m16_{method}"), |b| {
@@ -54,7 +54,7 @@ fn bench(c: &mut Criterion) {
     two.finish();
 
     let model = plug2d(38, 30).unwrap();
-    let problem = Problem::new(2, model.k().clone(), 2.0).unwrap();
+    let problem = model.problem(2.0).unwrap();
     one_run_group(
         c,
         "critical_plug2d_large",
@@ -64,7 +64,7 @@ fn bench(c: &mut Criterion) {
         120,
     );
     let model = plug3d(4, 2).unwrap();
-    let problem = Problem::new(3, model.k().clone(), 2.0).unwrap();
+    let problem = model.problem(2.0).unwrap();
     one_run_group(c, "critical_plug3d", "plug3d_m20_bnb", &problem, 20, 40);
 }
 

@@ -47,7 +47,7 @@ fn patterns(c: &mut Criterion) {
     plug.warm_up_time(Duration::from_secs(1));
     plug.measurement_time(Duration::from_secs(300));
     let model = plug3d(4, 2).unwrap();
-    let problem = Problem::new(3, model.k().clone(), 1.2 * PLUG3D_M20_MU_STAR).unwrap();
+    let problem = model.problem(1.2 * PLUG3D_M20_MU_STAR).unwrap();
     assert_eq!(problem.nodes(), 20);
     plug.bench_function("bnb_plug3d_m20_1.2mu*", |b| {
         b.iter(|| run(&problem, PatternMethod::Bnb))

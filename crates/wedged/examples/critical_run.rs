@@ -14,7 +14,7 @@
 
 use std::sync::atomic::AtomicBool;
 
-use wedged::{critical_with_control, CriticalMethod, CriticalProgress, CriticalSettings, Problem};
+use wedged::{critical_with_control, CriticalMethod, CriticalProgress, CriticalSettings};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -36,11 +36,11 @@ fn main() {
     let (problem, rest) = match args.first().map(String::as_str) {
         Some("plug2d") => {
             let model = wedged::examples::plug2d(n(1), n(2)).expect("the plug builds");
-            (Problem::new(2, model.k().clone(), mu).expect("definite"), 3)
+            (model.problem(mu).expect("definite"), 3)
         }
         Some("plug3d") => {
             let model = wedged::examples::plug3d(n(1), n(2)).expect("the plug builds");
-            (Problem::new(3, model.k().clone(), mu).expect("definite"), 3)
+            (model.problem(mu).expect("definite"), 3)
         }
         Some("random") => (
             wedged::examples::random_spd_problem_dim(n(1), n(2), 2.0, n(3) as u64),

@@ -13,7 +13,7 @@
 
 use std::time::Instant;
 use wedged::patterns::{enumerate_patterns, PatternMethod, PatternSettings};
-use wedged::{Outcome, Problem};
+use wedged::Outcome;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -33,7 +33,7 @@ fn main() {
         eprintln!("error: {e}");
         std::process::exit(2)
     });
-    let base = Problem::new(3, model.k().clone(), 1.0).expect("the plug is definite");
+    let base = model.problem(1.0).expect("the plug is definite");
     let m = base.nodes();
     let method = match flag("--pyramid") {
         Some(k) => PatternMethod::Pyramid { faces: k as usize },

@@ -626,7 +626,7 @@ fn bnb_with_drive_cuts_agrees_with_certified_runs() {
 fn simplex_search_agrees_with_the_certified_search_on_the_plugs() {
     for (nx, ny) in [(5, 4), (8, 6), (10, 8), (13, 10), (16, 12)] {
         let model = wedged::examples::plug2d(nx, ny).unwrap();
-        let problem = Problem::new(2, model.k().clone(), 1.8).unwrap();
+        let problem = model.problem(1.8).unwrap();
         let what = format!("plug {nx} x {ny}");
         let fast = critical(&problem, &CriticalSettings::default()).unwrap();
         let certified = solve(&problem, CriticalMethod::Bnb, &what);

@@ -8,7 +8,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use wedged::fe::generate::{Frustum, Plug2d, VGroove};
 use wedged::fe::{element, BoundarySpec, ContactSpec, FeError, Material, Mesh, Model, Plane};
-use wedged::{enumerate, Problem, Settings};
+use wedged::{enumerate, Settings};
 
 fn spec(contact: &[&str], clamp: &[&str], symmetry: &[&str]) -> BoundarySpec {
     BoundarySpec {
@@ -203,7 +203,7 @@ fn condensation_equals_the_dense_schur_complement() {
             min > 1e-9 * eig.eigenvalues.max(),
             "{name}: min eigenvalue {min:e}"
         );
-        Problem::new(model.mesh().dim(), model.k().clone(), 1.0).unwrap();
+        model.problem(1.0).unwrap();
     }
 }
 
@@ -309,7 +309,7 @@ fn wedged_rays_of_the_plug_map_back_to_equilibria() {
         &spec(&["contact"], &["top"], &[]),
     )
     .unwrap();
-    let problem = Problem::new(2, model.k().clone(), 2.0).unwrap();
+    let problem = model.problem(2.0).unwrap();
     let result = enumerate(&problem, &Settings::default()).unwrap();
     assert!(!result.rays.is_empty(), "the plug should wedge at mu = 2");
     for (k, ray) in result.rays.iter().enumerate() {
@@ -345,7 +345,7 @@ fn rigid_displacements_of_contact_nodes_give_no_stress_without_clamps() {
         .von_mises
         .iter()
         .all(|v| v.abs() < 1e-3 * 210e9 * 1e-9));
-    assert!(Problem::new(2, model.k().clone(), 1.0).is_err());
+    assert!(model.problem(1.0).is_err());
 }
 
 #[test]

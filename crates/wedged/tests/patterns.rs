@@ -325,7 +325,7 @@ fn a_time_limit_of_zero_gives_an_incomplete_run() {
 #[test]
 fn the_3d_plug_wedges_and_every_piece_is_checked() {
     let model = wedged::examples::plug3d(1, 1).unwrap();
-    let problem = Problem::new(3, model.k().clone(), 3.0).unwrap();
+    let problem = model.problem(3.0).unwrap();
     let p = run(&problem, PatternMethod::Bnb);
     assert_eq!(p.outcome, Outcome::Wedged);
     let q = run(&problem, PatternMethod::Pyramid { faces: 8 });

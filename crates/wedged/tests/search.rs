@@ -181,7 +181,7 @@ fn pattern_search_finds_the_cones_of_pruned_dd_on_300_random_instances() {
 #[test]
 fn both_searches_agree_with_pruned_dd_on_the_triangle_plug() {
     let model = wedged::examples::plug2d_tri(8).unwrap();
-    let p = Problem::new(2, model.k().clone(), 2.0).unwrap();
+    let p = model.problem(2.0).unwrap();
     assert_eq!(p.nodes(), 16);
     let truth = run(&p, Method::PrunedDd);
     let rays = run(&p, Method::Search);

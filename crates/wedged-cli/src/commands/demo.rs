@@ -1,7 +1,7 @@
 //! `wedged demo`: the built-in plug, end to end.
 
 use std::fs;
-use wedged::{CriticalSettings, CriticalStatus, Problem, Settings};
+use wedged::{CriticalSettings, CriticalStatus, Settings};
 
 use super::*;
 use crate::args::*;
@@ -11,7 +11,8 @@ use crate::report::answer::Choice;
 pub(crate) fn run_demo(args: DemoArgs) -> Result<(), Failure> {
     let (model, mu) = wedged::examples::plug2d_demo()
         .map_err(|e| Failure::Internal(format!("the demo model: {e}")))?;
-    let problem = Problem::new(2, model.k().clone(), mu)
+    let problem = model
+        .problem(mu)
         .map_err(|e| Failure::Internal(format!("the demo model: {e}")))?;
     let dir = &args.out;
     let preface = format!(

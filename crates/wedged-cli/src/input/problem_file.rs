@@ -269,7 +269,7 @@ fn parse_raw(text: &str, path: &Path) -> Result<(RawProblem, Err), LoadError> {
 
 /// The WP of a model's condensed stiffness, or why it is not one, in the terms of the model.
 fn model_problem(model: &Model, mu: f64) -> Result<Problem, String> {
-    Problem::new(model.mesh().dim(), model.k().clone(), mu).map_err(|e| match e {
+    model.problem(mu).map_err(|e| match e {
         ProblemError::NotPositiveDefinite { node, .. } => format!(
             "the condensed stiffness is singular at contact node {node}: the body can move \
              rigidly; clamp part of it with a [[clamp]] group (floating bodies are not supported)"

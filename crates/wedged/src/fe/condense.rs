@@ -19,6 +19,7 @@
 
 use super::boundary::{Boundary, BoundarySpec};
 use super::{element, material::von_mises, FeError, Material, Mesh};
+use crate::problem::{Problem, ProblemError};
 use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Mat, Side};
@@ -336,6 +337,13 @@ impl Model {
     /// The condensed stiffness: the WP's `K` (`dim*m x dim*m`, local frames, normal first).
     pub fn k(&self) -> &DMatrix<f64> {
         &self.k
+    }
+
+    /// The wedged problem of this model at friction coefficient `mu`: its condensed stiffness
+    /// in the mesh's dimension. The one `Model -> Problem` conversion; `Err` as
+    /// [`Problem::new`] (a body that can move rigidly has a singular `K`).
+    pub fn problem(&self, mu: f64) -> Result<Problem, ProblemError> {
+        Problem::new(self.mesh.dim(), self.k.clone(), mu)
     }
 
     /// Sizes and timings.
