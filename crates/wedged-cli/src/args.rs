@@ -171,8 +171,8 @@ pub(crate) struct EnumerateArgs {
     #[arg(long, value_name = "MU", allow_negative_numbers = true)]
     pub(crate) mu: Option<f64>,
     /// Algorithm [default: pruned-dd for a 2D problem, bnb for a 3D one]. The ray methods
-    /// (pruned-dd, full-dd, faces, exact) list the complementary extreme rays and the cones of a
-    /// 2D problem; the pattern methods (bnb, pyramid, pattern-faces) list the maximal sign patterns
+    /// (pruned-dd, full-dd, faces, exact, search) list the complementary extreme rays and the
+    /// cones of a 2D problem; the pattern methods (bnb, pyramid, pattern-faces, pattern-search) list the maximal sign patterns
     /// (the convex pieces, each with a witness) of a 2D or 3D problem.
     #[arg(long, value_name = "METHOD")]
     pub(crate) method: Option<MethodArg>,
@@ -212,10 +212,10 @@ pub(crate) struct EnumerateArgs {
     /// faces, exact): each ray recomputed from its status, checked extreme, feasible with
     /// exactly its status and complementary, and compared with the floating-point ray; each
     /// cone's rays checked cross-complementary (completeness checked up to 8 nodes; --exact
-    /// gives a provably complete answer). A pattern method (bnb, pattern-faces; 2D or 3D): each
+    /// gives a provably complete answer). A pattern method (bnb, pattern-faces, pattern-search; 2D or 3D): each
     /// pattern's witness recomputed exactly and checked, and every decision of the search
     /// backed by an infeasibility certificate checked exactly, which proves the patterns are
-    /// all the maximal ones (the pyramid method's candidates are not certified). A failure is
+    /// all the maximal ones (the pyramid's and pattern-search's completeness is not yet certified). A failure is
     /// reported and the exit code is 1.
     #[arg(long)]
     pub(crate) certify: bool,

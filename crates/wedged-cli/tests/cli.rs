@@ -169,6 +169,10 @@ fn check_report(report: &Value, k: &DMatrix<f64>) {
             "uncertain",
             "near_degenerate",
             "realised",
+            "bound_tightenings",
+            "lp_solves",
+            "lp_pivots",
+            "lp_fallbacks",
             "seconds",
             "peak_rss_bytes",
         ]

@@ -1,6 +1,7 @@
 //! `cargo bench -p wedged --bench enumerate`: pruned-dd against full-dd, pruned-dd's growth,
-//! and the contact-set search against pruned-dd (random m = 9 at mu = 1.5, and the triangle
-//! plug of issue 20, [`plug2d_tri`], at mu = 2).
+//! and the contact-set searches: `search` (rays) against pruned-dd on random m = 9 at mu = 1.5
+//! and the triangle plug of issue 20 ([`plug2d_tri`], mu = 2), `pattern-search` (pieces)
+//! against bnb on the plug.
 //!
 //! Problems: `K = A A^T + diag` with `A` a seeded uniform `2m x 2m` matrix, `mu = 1`
 //! ([`random_spd_problem`]). The kept-ray counts per node are printed once per size (they are
@@ -9,6 +10,7 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use wedged::examples::{plug2d_tri, random_spd_problem};
+use wedged::patterns::{enumerate_patterns, PatternMethod, PatternSettings};
 use wedged::{enumerate, Method, Problem, Settings};
 
 fn settings(method: Method) -> Settings {
@@ -63,14 +65,14 @@ fn search_vs_pruned(c: &mut Criterion) {
     let random = random_spd_problem(9, 1.5, 2024);
     let plug = |n: usize| {
         let model = plug2d_tri(n).unwrap();
-        Problem::new(2, model.k().clone(), 2.0).unwrap()
+        model.problem(2.0).unwrap()
     };
-    // (name, problem, whether pruned-dd is run too: at m = 20 it takes about 40 s.)
+    // Rays: (name, problem, whether pruned-dd is run too: at m = 20 it takes about 40 s).
+    // Beyond m = 20 the rays themselves explode (29,720 at m = 30), so pieces only.
     let cases = [
         ("random_m9", random, true),
         ("plug_tri_m16", plug(8), true),
         ("plug_tri_m20", plug(10), false),
-        ("plug_tri_m30", plug(15), false),
     ];
     for (name, p, with_pruned) in &cases {
         let e = enumerate(p, &settings(Method::Search)).unwrap();
@@ -89,6 +91,29 @@ fn search_vs_pruned(c: &mut Criterion) {
         for &method in methods {
             group.bench_function(BenchmarkId::new(method.name(), name), |b| {
                 b.iter(|| enumerate(p, &settings(method)).unwrap())
+            });
+        }
+    }
+    // Pieces: pattern-search against bnb.
+    let pieces = |p: &Problem, method: PatternMethod| {
+        let settings = PatternSettings {
+            method,
+            ..PatternSettings::default()
+        };
+        enumerate_patterns(p, &settings).unwrap()
+    };
+    for (name, p, with_bnb) in [
+        ("plug_tri_m20", plug(10), true),
+        ("plug_tri_m30", plug(15), false),
+    ] {
+        let methods: &[PatternMethod] = if with_bnb {
+            &[PatternMethod::Search, PatternMethod::Bnb]
+        } else {
+            &[PatternMethod::Search]
+        };
+        for &method in methods {
+            group.bench_function(BenchmarkId::new(method.name(), name), |b| {
+                b.iter(|| pieces(&p, method))
             });
         }
     }

@@ -16,7 +16,7 @@ use wedged::{ContactPattern, Enumeration, NodeStatus, Outcome, Settings};
 pub enum Choice {
     /// A 2D ray method (`pruned-dd`, `full-dd`, `faces`).
     Rays(Settings),
-    /// A sign-pattern method (`bnb`, `pyramid`, `pattern-faces`).
+    /// A sign-pattern method (`bnb`, `pyramid`, `pattern-faces`, `pattern-search`).
     Patterns(PatternSettings),
 }
 

@@ -25,7 +25,7 @@
 //!   rays, [`wedged::Enumeration::cone_centroid`]), and `margin` is `null`: the centroid is not
 //!   pushed away from the piece's boundary as a pattern method's witness is, so it has no
 //!   margin to report. `undecided` is empty.
-//! - A pattern method (`bnb`, `pyramid`, `pattern-faces`; 2D or 3D) leaves `rays` and `cones`
+//! - A pattern method (`bnb`, `pyramid`, `pattern-faces`, `pattern-search` (2D); 2D or 3D) leaves `rays` and `cones`
 //!   empty and fills `patterns` with the maximal realised sign patterns, sorted by pattern, each
 //!   with its witness (in the relative interior of its piece) and `margin`, the witness's
 //!   smallest positive entry (pressures, scaled gaps, stick slacks). `undecided` lists the
@@ -230,6 +230,10 @@ pub struct PatternInfoJson {
     pub uncertain: u64,
     pub near_degenerate: u64,
     pub realised: u64,
+    pub bound_tightenings: u64,
+    pub lp_solves: u64,
+    pub lp_pivots: u64,
+    pub lp_fallbacks: u64,
     pub seconds: f64,
     /// The process's peak resident memory (see [`peak_rss_bytes`]).
     pub peak_rss_bytes: Option<u64>,
@@ -252,6 +256,10 @@ impl PatternInfoJson {
             uncertain,
             near_degenerate,
             realised,
+            bound_tightenings,
+            lp_solves,
+            lp_pivots,
+            lp_fallbacks,
             seconds,
         } = *info;
         PatternInfoJson {
@@ -270,6 +278,10 @@ impl PatternInfoJson {
             uncertain,
             near_degenerate,
             realised,
+            bound_tightenings,
+            lp_solves,
+            lp_pivots,
+            lp_fallbacks,
             seconds,
             peak_rss_bytes: peak_rss_bytes(),
         }
@@ -296,6 +308,7 @@ pub struct RayInfoJson<'a> {
     pub search_pruned: u64,
     pub search_leaves: u64,
     pub search_undecided: u64,
+    pub search_tightenings: u64,
     pub search_undecided_faces: &'a [String],
     pub largest_face: usize,
     pub lp_solves: u64,
@@ -327,6 +340,7 @@ impl<'a> From<&'a Info> for RayInfoJson<'a> {
             search_pruned,
             search_leaves,
             search_undecided,
+            search_tightenings,
             search_undecided_faces,
             largest_face,
             lp_solves,
@@ -352,6 +366,7 @@ impl<'a> From<&'a Info> for RayInfoJson<'a> {
             search_pruned: *search_pruned,
             search_leaves: *search_leaves,
             search_undecided: *search_undecided,
+            search_tightenings: *search_tightenings,
             search_undecided_faces,
             largest_face: *largest_face,
             lp_solves: *lp_solves,
@@ -633,8 +648,8 @@ mod tests {
         assert_eq!(info["method"], "pyramid");
         assert_eq!(info["pyramid_faces"], 12);
         assert_eq!(info["socps"], 7);
-        // method, pyramid_faces, the 14 fields of PatternInfo and peak_rss_bytes.
-        assert_eq!(info.len(), 17, "{info:?}");
+        // method, pyramid_faces, the 18 fields of PatternInfo and peak_rss_bytes.
+        assert_eq!(info.len(), 21, "{info:?}");
     }
 
     #[test]

@@ -405,6 +405,21 @@ fn pattern_info(out: &mut String, problem: &Problem, choice: &Choice, result: &P
                 info.spurious
             )
         }
+        Choice::Patterns(s) if s.method == PatternMethod::Search => format!(
+            "contact-set search: {} visited, {} pruned (no solution presses the contact nodes \
+             at once), {} inherited their parent's solution, {} bounded the drives of their \
+             free nodes, {} (contact sets pressed exactly) of 2^{m} = {}; {} ({} pivots, {} \
+             passed to Clarabel)",
+            plural(info.nodes_visited as usize, "node", "nodes"),
+            info.pruned_infeasible,
+            info.nodes_inherited,
+            info.bound_tightenings,
+            plural(info.leaves as usize, "leaf", "leaves"),
+            power_of_two(m, 0),
+            plural(info.lp_solves as usize, "linear program", "linear programs"),
+            info.lp_pivots,
+            info.lp_fallbacks,
+        ),
         _ => format!(
             "brute force: {} of the 2^{m} - 1 = {} nonempty contact sets have a nontrivial cone",
             info.candidates,

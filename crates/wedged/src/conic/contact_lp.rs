@@ -1,157 +1,41 @@
-//! The 2D programs of the contact-set search (`rays/search`) as linear programs for the in-house
-//! simplex method ([`super::simplex`]), warm-started from the parent's basis.
+//! The support of a leaf's cone in the 2D contact-set search (`rays/search`): which friction
+//! edges and which gaps some solution makes positive, one linear program for the in-house
+//! simplex method ([`super::simplex`]). (The search's node programs are [`super::node_lp`].)
 //!
-//! **The program** has one matrix for the whole search; a search node changes bounds only, so
-//! the parent's basis (and its inverse) carries over to the children:
-//! - two columns per node, `a_i, b_i >= 0`, the edges of the friction cone: `r_n_i = a_i + b_i`,
-//!   `r_t_i = mu (a_i - b_i)`; a node without a reaction has both fixed at zero;
-//! - rows (each a row activity with bounds): the scaled gaps `u_n_i` ([`Formulation::gap_row`];
-//!   `= 0` in contact, `>= 0` otherwise), the pressures `r_n_i` (`>= 1` at the nodes of
-//!   [`Norm::Pressed`], `>= 0` otherwise) and the total `sum r_n` (`>= 1` for [`Norm::Sum`]).
-//!
-//! Every program is a feasibility question about a cone, so `>= 1` is the same as `> 0`: a
-//! pressed program is feasible exactly when one solution presses all the listed nodes at once.
-//!
-//! **Answers** are checked by the simplex method (a point within its tolerance, or a Farkas
-//! certificate that excludes every point by a clear margin). A program it cannot decide goes to
-//! Clarabel ([`Formulation::decide_at`]); [`LpCounters::fallbacks`] counts those.
+//! **Answers** are checked by the simplex method (a point within its tolerance). A program it
+//! cannot decide goes to Clarabel one entry at a time ([`Formulation::decide_at`]);
+//! [`LpCounters::fallbacks`] counts those.
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::Ordering;
 
+pub(crate) use super::node_lp::LpCounters;
 use super::program::{Class, Decision, Formulation, Goal, Norm};
-use super::simplex::{self, Answer, Basis, Lp};
-
-/// A warm start handed from a search node to its children: the simplex method's final basis,
-/// opaque outside `conic`.
-pub(crate) type Warm = Basis;
+use super::simplex::{self, Answer, Lp};
 
 /// The bound on the total pressure of [`ContactLp::support`]: an entry that no solution makes
 /// larger than `1 / (2 SUPPORT_SCALE)` of its total pressure counts as zero (a resolution
 /// below [`super::program::POSITIVE`]).
 const SUPPORT_SCALE: f64 = 1e7;
 
-/// Counts of a run.
-#[derive(Debug, Default)]
-pub(crate) struct LpCounters {
-    /// Programs the simplex method decided.
-    pub solves: AtomicU64,
-    /// Simplex pivots, in all.
-    pub pivots: AtomicU64,
-    /// Programs it could not, passed to Clarabel.
-    pub fallbacks: AtomicU64,
-}
-
-/// The search's program: the matrix, made once, and the bounds of the free start.
+/// The search's programs over one formulation, and what they cost.
 pub(crate) struct ContactLp<'f> {
     form: &'f Formulation<'f>,
-    template: Lp,
     pub counters: LpCounters,
 }
 
 impl<'f> ContactLp<'f> {
-    /// The program of `form` (2D only).
+    /// The programs of `form` (2D only).
     pub(crate) fn new(form: &'f Formulation<'f>) -> ContactLp<'f> {
         assert_eq!(form.dim, 2, "the contact-set programs are 2D");
-        let m = form.m;
-        let n = 2 * m;
-        let mu = form.mu;
-        let mut lp = Lp::new(n, 2 * m + 1);
-        for i in 0..m {
-            for (j, w) in form.gap_row(i).chunks(2).enumerate() {
-                lp.a[i * n + 2 * j] = w[0] + mu * w[1];
-                lp.a[i * n + 2 * j + 1] = w[0] - mu * w[1];
-            }
-            lp.a[(m + i) * n + 2 * i] = 1.0;
-            lp.a[(m + i) * n + 2 * i + 1] = 1.0;
-            lp.a[2 * m * n + 2 * i] = 1.0;
-            lp.a[2 * m * n + 2 * i + 1] = 1.0;
-        }
         ContactLp {
             form,
-            template: lp,
             counters: LpCounters::default(),
         }
     }
 
-    /// The program of `classes` normalised by `norm`.
-    fn program(&self, classes: &[Class], norm: Norm) -> Lp {
-        let m = self.form.m;
-        let n = 2 * m;
-        let mut lp = self.template.clone();
-        for (i, &c) in classes.iter().enumerate() {
-            let hi = if c.has_r() { f64::INFINITY } else { 0.0 };
-            for col in [2 * i, 2 * i + 1] {
-                (lp.lo[col], lp.hi[col]) = (0.0, hi);
-            }
-            let gap = n + i;
-            (lp.lo[gap], lp.hi[gap]) = match c {
-                Class::Contact | Class::Grazing => (0.0, 0.0),
-                Class::Separated | Class::Free => (0.0, f64::INFINITY),
-            };
-            (lp.lo[n + m + i], lp.hi[n + m + i]) = (0.0, f64::INFINITY);
-        }
-        (lp.lo[n + 2 * m], lp.hi[n + 2 * m]) = (0.0, f64::INFINITY);
-        match norm {
-            Norm::Sum => lp.lo[n + 2 * m] = 1.0,
-            Norm::Pressed(nodes) => nodes.iter().for_each(|&i| lp.lo[n + m + i] = 1.0),
-            Norm::Gap(j) => lp.lo[n + j] = 1.0,
-        }
-        lp
-    }
-
-    /// Decides whether the program of `classes` normalised by `norm` is feasible, from `warm`.
-    /// Returns the decision (reactions rescaled to `sum r_n = 1`) and the final basis, when the
-    /// simplex method decided (Clarabel decides the others, with no basis).
-    pub(crate) fn decide(
-        &self,
-        classes: &[Class],
-        norm: Norm,
-        warm: Option<&Basis>,
-    ) -> (Decision, Option<Basis>) {
-        let lp = self.program(classes, norm);
-        let (answer, basis, stats) = simplex::solve(&lp, warm);
-        self.counters
-            .pivots
-            .fetch_add(stats.pivots, Ordering::Relaxed);
-        match answer {
-            Answer::Optimal { x, .. } => {
-                self.counters.solves.fetch_add(1, Ordering::Relaxed);
-                (
-                    Decision::Yes {
-                        r: self.reactions(&x),
-                        value: 0.0,
-                    },
-                    Some(basis),
-                )
-            }
-            Answer::Infeasible { .. } => {
-                self.counters.solves.fetch_add(1, Ordering::Relaxed);
-                (Decision::No, Some(basis))
-            }
-            Answer::Failed(_) => {
-                self.counters.fallbacks.fetch_add(1, Ordering::Relaxed);
-                let decision = self
-                    .form
-                    .decide_at(classes, self.form.mu, norm, Goal::Feasible);
-                (decision, None)
-            }
-        }
-    }
-
-    /// The reactions (`2m`, `sum r_n = 1`) of the columns `x`.
-    fn reactions(&self, x: &[f64]) -> Vec<f64> {
-        let (m, mu) = (self.form.m, self.form.mu);
-        let mut r = vec![0.0; 2 * m];
-        for i in 0..m {
-            let (a, b) = (x[2 * i], x[2 * i + 1]);
-            r[2 * i] = a + b;
-            r[2 * i + 1] = mu * (a - b);
-        }
-        let total: f64 = r.iter().step_by(2).sum();
-        if total > 0.0 {
-            r.iter_mut().for_each(|v| *v /= total);
-        }
-        r
+    /// The formulation the programs are made of.
+    pub(crate) fn form(&self) -> &'f Formulation<'f> {
+        self.form
     }
 
     /// The support of the cone of `classes` (no normalisation): which of the friction edges

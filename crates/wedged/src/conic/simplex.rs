@@ -1,5 +1,5 @@
 //! A dense bounded simplex method with warm starts, for the small linear programs of the 2D
-//! `mu*` search (`critical/lp.rs`, its only caller).
+//! searches over contact sets ([`super::node_lp`], [`super::contact_lp`]).
 //!
 //! **Why in-house.** A branch-and-bound child differs from its parent by a few bounds, and a
 //! bound-tightening program by its objective: from the parent's optimal basis the dual (or
@@ -34,12 +34,17 @@
 //! - `Infeasible`: the certificate `y` (one multiplier per row; the row of the inverse that the
 //!   dual method could not move) gives `c = y^T [A  -I]` with `c . (x, s) = 0` for every
 //!   point; the least value of `c . (x, s)` over the bounds must be clearly positive
-//!   (`>= CERT` of its terms), entries of `c` against an infinite bound must be tiny (`<= TINY
-//!   ||c||_inf`) and are dropped; a feasible point would then need entries more than
-//!   `CERT / TINY` times the bounds. (The same argument as Clarabel's certificates in
-//!   [`crate::socp`].)
+//!   (`>= CERT` of its terms). A row activity's bounds there are its own intersected with those
+//!   its columns' bounds imply, so a program with bounded columns is checked with every term;
+//!   otherwise entries of `c` against an infinite bound must be tiny (`<= TINY ||c||_inf`) and
+//!   are dropped, and a feasible point would then need entries more than `CERT / TINY` times
+//!   the bounds. (The same argument as Clarabel's certificates in [`super::socp`].)
 //! - A failed check, a singular basis or too many pivots: one retry from the slack basis, then
 //!   `Failed` with the reason, and the caller asks Clarabel.
+
+mod check;
+
+use check::{check_certificate, check_point};
 
 /// Feasibility and optimality tolerance, relative to the terms of each quantity.
 const TOL: f64 = 1e-9;
@@ -706,77 +711,6 @@ impl<'a> Run<'a> {
                 self.dual();
             }
         }
-    }
-}
-
-/// The optimal point of columns `x`: row activities recomputed, every bound checked (see the
-/// module docs).
-fn check_point(lp: &Lp, x: &[f64]) -> Result<Answer, String> {
-    let n = lp.n;
-    let mut all = x.to_vec();
-    let mut terms = vec![0.0; lp.total()];
-    for (j, v) in x.iter().enumerate() {
-        terms[j] = v.abs();
-    }
-    for k in 0..lp.rows {
-        let row = &lp.a[k * n..(k + 1) * n];
-        all.push(row.iter().zip(x).map(|(a, b)| a * b).sum());
-        terms[n + k] = row.iter().zip(x).map(|(a, b)| (a * b).abs()).sum();
-    }
-    for (j, &v) in all.iter().enumerate() {
-        if !v.is_finite() {
-            return Err(format!("variable {j} is not finite"));
-        }
-        let allowed = TOL * (1.0 + terms[j]);
-        if v < lp.lo[j] - allowed || v > lp.hi[j] + allowed {
-            return Err(format!(
-                "variable {j} = {v:e} is outside [{:e}, {:e}]",
-                lp.lo[j], lp.hi[j]
-            ));
-        }
-    }
-    let value = all.iter().zip(&lp.cost).map(|(a, b)| a * b).sum();
-    Ok(Answer::Optimal { x: all, value })
-}
-
-/// An infeasibility certificate `y` (one multiplier per row), checked as the module docs say.
-fn check_certificate(lp: &Lp, y: &[f64]) -> Result<Answer, String> {
-    if y.iter().any(|v| !v.is_finite()) {
-        return Err("the certificate is not finite".into());
-    }
-    let c = lp.row_times(y);
-    let cmax = c.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-    if cmax == 0.0 {
-        return Err("the certificate is zero".into());
-    }
-    // The least and the greatest of c . v over the bounds, from the finite terms, and
-    // whether a non-tiny term is unbounded that way.
-    let (mut least, mut most, mut terms) = (0.0, 0.0, 0.0);
-    let (mut least_open, mut most_open) = (false, false);
-    for (j, &cj) in c.iter().enumerate() {
-        if cj.abs() <= TINY * cmax {
-            continue;
-        }
-        let (lo, hi) = (lp.lo[j], lp.hi[j]);
-        let (at_least, at_most) = if cj > 0.0 { (lo, hi) } else { (hi, lo) };
-        if at_least.is_finite() {
-            least += cj * at_least;
-            terms += (cj * at_least).abs();
-        } else {
-            least_open = true;
-        }
-        if at_most.is_finite() {
-            most += cj * at_most;
-            terms += (cj * at_most).abs();
-        } else {
-            most_open = true;
-        }
-    }
-    let clear = CERT * terms.max(f64::MIN_POSITIVE);
-    if (!least_open && least > clear) || (!most_open && most < -clear) {
-        Ok(Answer::Infeasible { y: y.to_vec() })
-    } else {
-        Err("the certificate does not exclude every point".into())
     }
 }
 

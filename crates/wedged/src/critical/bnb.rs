@@ -20,7 +20,7 @@
 //! **Drive cuts (2D, not certified).** Nodes down to [`TIGHTEN_DEPTH`] (deeper on larger
 //! problems) bound the drive of their undecided nodes (again down to [`RETIGHTEN_DEPTH`] when
 //! the incumbent has dropped since), and every program below carries the cuts those bounds
-//! give ([`super::cuts`]): a node that presses must not be driven open. The program then also
+//! give ([`crate::conic::cuts`]): a node that presses must not be driven open. The program then also
 //! minimises the undecided nodes' total gap and pressure, so that its point is a vertex rather
 //! than a central one. On
 //! the 2D plug this cuts the tree by 10x to 50x and the time by 3x to 8x (`BENCHMARKS.md`). In
@@ -30,7 +30,7 @@
 //! exactly.
 //!
 //! **The simplex method (the same searches).** Their programs are linear programs of one
-//! shape ([`super::lp`]); each is solved by the in-house simplex method from its parent's
+//! shape ([`crate::conic::node_lp`]); each is solved by the in-house simplex method from its parent's
 //! basis (the tightening programs from the node's), a few pivots where Clarabel starts over.
 //! On the 2D plug with m = 40 that took the search from 18 s to 0.8 s, with m = 60 from 268 s
 //! to 7.9 s (`BENCHMARKS.md`).
@@ -38,9 +38,9 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
-use super::cuts::{self, Drive};
-use super::lp::{self, LpCounters, Shape, Warm};
 use super::{CriticalInfo, CriticalProgress, Ctx, Found, Leaf};
+use crate::conic::cuts::{self, Drive};
+use crate::conic::node_lp::{self as lp, LpCounters, Shape, Warm};
 use crate::conic::program::{Class, Decision, Formulation, Goal, Norm};
 use crate::patterns::Undecided;
 use crate::run::Control;

@@ -45,10 +45,8 @@
 
 mod bnb;
 pub mod certify;
-mod cuts;
 mod enumerate;
 mod faces;
-mod lp;
 mod polish;
 
 use std::fmt;

@@ -84,9 +84,9 @@ pub(crate) fn certify(
     }
     if let PatternMethod::Search = method {
         failures.push(
-            "the pattern-search method prunes on the simplex method's certificates, which are \
-             not yet kept for an exact check, so its completeness is not certified (use bnb or \
-             pattern-faces)"
+            "the pattern-search method prunes on the simplex method's certificates and on drive \
+             cuts from floating-point optima, which are not yet kept for an exact check, so its \
+             completeness is not certified (use bnb or pattern-faces)"
                 .to_string(),
         );
     }

@@ -173,6 +173,14 @@ pub struct PatternInfo {
     pub near_degenerate: u64,
     /// Realised patterns found before the maximal ones were kept.
     pub realised: u64,
+    /// Search nodes that bounded their free nodes' drives for the cuts of their subtree
+    /// (search).
+    pub bound_tightenings: u64,
+    /// Linear programs solved by the simplex method, their pivots, and the programs passed on
+    /// to Clarabel (search).
+    pub lp_solves: u64,
+    pub lp_pivots: u64,
+    pub lp_fallbacks: u64,
     /// Wall-clock seconds.
     pub seconds: f64,
 }

@@ -12,6 +12,8 @@
 //! The work is the tree (measured in `info.nodes_visited`, `pruned_infeasible`, `leaves`) and
 //! one support program per leaf: it follows the number of pieces, not of their extreme rays.
 
+use std::sync::atomic::Ordering;
+
 use rayon::prelude::*;
 
 use super::{Found, PatternInfo, Undecided};
@@ -45,6 +47,7 @@ pub(super) fn run(
     info.nodes_inherited = tree.inherited;
     info.pruned_infeasible = tree.pruned;
     info.leaves = tree.leaves.len() as u64;
+    info.bound_tightenings = tree.tightened;
     let decided: Vec<Result<Option<Vec<ContactPattern>>, String>> = tree
         .leaves
         .par_iter()
@@ -75,6 +78,10 @@ pub(super) fn run(
         patterns: Vec::new(),
         undecided: Vec::new(),
     };
+    let counters = &lp.counters;
+    info.lp_solves = counters.solves.load(Ordering::Relaxed);
+    info.lp_pivots = counters.pivots.load(Ordering::Relaxed);
+    info.lp_fallbacks = counters.fallbacks.load(Ordering::Relaxed);
     for (contact, d) in tree.leaves.iter().zip(decided) {
         match d {
             Ok(Some(p)) => found.patterns.push(p),

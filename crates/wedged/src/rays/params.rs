@@ -124,6 +124,8 @@ pub struct Info {
     pub search_leaves: u64,
     /// Search nodes whose program neither solver could decide (explored, never pruned).
     pub search_undecided: u64,
+    /// Search nodes that bounded their free nodes' drives for the cuts of their subtree.
+    pub search_tightenings: u64,
     /// Why the faces of some leaves could not be computed (search; the run is then
     /// incomplete, [`crate::Stop::Undecided`]).
     pub search_undecided_faces: Vec<String>,

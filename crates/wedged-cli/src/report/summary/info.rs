@@ -84,11 +84,12 @@ pub(super) fn info_line(info: &Info) -> String {
     }
     if info.search_nodes > 0 {
         parts.push(format!(
-            "search tree: {} ({} pruned, {} inherited), {} (faces up to dimension {}); {} \
-             ({} pivots, {} passed to Clarabel)",
+            "search tree: {} ({} pruned, {} inherited, {} bounded the drives), {} (faces up to \
+             dimension {}); {} ({} pivots, {} passed to Clarabel)",
             plural(info.search_nodes as usize, "node", "nodes"),
             info.search_pruned,
             info.search_inherited,
+            info.search_tightenings,
             plural(info.search_leaves as usize, "leaf", "leaves"),
             info.largest_face,
             plural(info.lp_solves as usize, "linear program", "linear programs"),

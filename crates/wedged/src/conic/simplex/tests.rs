@@ -199,3 +199,43 @@ fn small_known_programs() {
     // y = (1, -1) up to scale and sign: (x0 + x1) - (x0 - x1) = 2 x1 >= 0, but 1 - 2 < 0.
     assert!((y[0] + y[1]).abs() < 1e-12 && y[0] != 0.0, "{y:?}");
 }
+
+/// An infeasibility certificate may drop a tiny term only against an infinite bound: one row
+/// `s = a x >= 1` with `a = 1e-13`, certificate `y = -1` (so `c = (-a, 1)`). With `x`
+/// unbounded the term `-a x` is dropped and the certificate passes (a feasible point would need
+/// `x = 1e13`, beyond what the check admits); with `x <= 1e14` the term counts and it fails
+/// (`x = 1e13` is feasible); with `x <= 1e7` it passes, and rightly (`a x <= 1e-6 < 1`). The
+/// bound of a row activity that its columns imply counts the same way.
+#[test]
+fn certificate_terms_count_against_finite_bounds() {
+    let verdict = |x_hi: f64| {
+        let mut lp = Lp::new(1, 1);
+        lp.a[0] = 1e-13;
+        (lp.lo[0], lp.hi[0]) = (0.0, x_hi);
+        (lp.lo[1], lp.hi[1]) = (1.0, f64::INFINITY);
+        matches!(
+            check_certificate(&lp, &[-1.0]),
+            Ok(Answer::Infeasible { .. })
+        )
+    };
+    assert!(verdict(f64::INFINITY), "dropped against an infinite bound");
+    assert!(!verdict(1e14), "a feasible program refuted");
+    assert!(verdict(1e7), "a clear certificate refused");
+    // The row's implied bound: s = x - 1e-13 z <= 0 with x >= 1 fixed, z <= 1e14, so that
+    // s >= 1 - 10 is possible... and s = 0 needs z = 1e13: feasible. Certificate y = 1 on
+    // `s <= 0` (c = (1, -1e-13, -1)): least over the box is 1 - 1e-13 * 1e14 - 0 < 0.
+    let mut lp = Lp::new(2, 1);
+    (lp.a[0], lp.a[1]) = (1.0, -1e-13);
+    (lp.lo[0], lp.hi[0]) = (1.0, 1.0);
+    (lp.lo[1], lp.hi[1]) = (0.0, 1e14);
+    (lp.lo[2], lp.hi[2]) = (f64::NEG_INFINITY, 0.0);
+    assert!(!matches!(
+        check_certificate(&lp, &[1.0]),
+        Ok(Answer::Infeasible { .. })
+    ));
+    lp.hi[1] = 1e7;
+    assert!(matches!(
+        check_certificate(&lp, &[1.0]),
+        Ok(Answer::Infeasible { .. })
+    ));
+}

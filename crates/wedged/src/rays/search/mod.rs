@@ -60,6 +60,7 @@ pub(crate) fn run(
     info.search_pruned = tree.pruned;
     info.search_leaves = tree.leaves.len() as u64;
     info.search_undecided = tree.undecided;
+    info.search_tightenings = tree.tightened;
     let mut undecided = false;
     // The faces of the leaves, in parallel.
     let tol = settings.zero_tol;

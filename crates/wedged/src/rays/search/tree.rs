@@ -11,24 +11,46 @@
 //! exactly `J`, and every complementary extreme ray lies in the face of one of them (the leaf of
 //! the set it presses).
 //!
+//! **Drive cuts.** The relaxation lets a free node press with its gap open, and dead subtrees
+//! (relaxation feasible, no complementary solution below) were 95% of the tree. Nodes near the
+//! root (depth below [`tighten_depth`]) bound each free node's drive over their relaxation
+//! ([`cuts::tighten`]) and every program below carries the cuts those bounds give: a node that
+//! presses must not be driven open. The cuts hold for every solution of the subtree, so a
+//! leaf's program is unchanged (a leaf has no free node, and its cuts are free rows) and a
+//! prune still means that no solution presses the contact nodes at once. On issue 20's plug at
+//! m = 40 this took the tree from 109k nodes to 7.6k (`BENCHMARKS.md`). The cuts rest on the
+//! solver's optima in floating point, like every prune of this search: `--certify` says that
+//! its completeness is not certified.
+//!
 //! Each program is a warm start of the simplex method from the parent's basis: a child differs
 //! from its parent by the bounds of one node. A child whose parent's solution already meets its
 //! constraints (the branched node's gap closed with a positive pressure, or its reaction zero)
-//! inherits it and solves nothing. The node to branch on is the free node whose relaxed
-//! solution breaks complementarity most (`u_n r_n` largest), then the one pressed most. The
-//! two subtrees run in parallel (`rayon::join`).
+//! inherits it and solves nothing. A program minimises the free nodes' total gap and pressure,
+//! so that its point is a vertex at which few nodes break complementarity. The node to branch
+//! on is the free node whose relaxed solution breaks complementarity most (`u_n r_n` largest),
+//! then the one pressed most. The two subtrees run in parallel (`rayon::join`).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use crate::conic::contact_lp::ContactLp;
-use crate::conic::contact_lp::Warm as Basis;
+use crate::conic::cuts::{self, Drive};
+use crate::conic::node_lp::{self, Shape, Warm as Basis};
 use crate::conic::program::{Class, Decision, Norm, POSITIVE};
 use crate::run::Control;
 
 /// A solution's gap or reaction component at most this (with `sum r_n = 1`, gaps scaled) counts
 /// as zero when deciding whether a child inherits it.
 const INHERIT_ZERO: f64 = 1e-9;
+
+/// Search nodes at depths below `max(TIGHTEN_DEPTH, m / TIGHTEN_PER_DEPTH)` bound the drives
+/// of their free nodes ([`cuts::tighten`], two programs per free node) and hand the cuts down to
+/// their subtrees. Deeper tightening visits fewer nodes but solves more programs. (Measured on
+/// issue 20's plug, whole process, 2 threads: m = 40, depths 3, 4, 6, 8: 1.1, 1.3, 1.8, 2.1 s
+/// (7.6k, 8.4k, 3.1k, 3.8k nodes); m = 50, depths 4, 6: 4.6, 6.3 s; m = 60, depths 4, 6, 8, 10:
+/// 21.0, 21.6, 19.5, 24.0 s (85k, 52k, 24k, 21k nodes).)
+const TIGHTEN_DEPTH: usize = 3;
+const TIGHTEN_PER_DEPTH: usize = 15;
 
 /// Explored fractions are counted in units of `2^-FRACTION_BITS` of the tree.
 const FRACTION_BITS: usize = 62;
@@ -47,6 +69,8 @@ pub(crate) struct Tree {
     pub inherited: u64,
     /// Nodes pruned (their program infeasible).
     pub pruned: u64,
+    /// Nodes that tightened the drive bounds.
+    pub tightened: u64,
 }
 
 pub(crate) struct Search<'a, 'f> {
@@ -61,6 +85,9 @@ pub(crate) struct Search<'a, 'f> {
     pruned: AtomicU64,
     /// The explored fraction of the tree, in units of `2^-FRACTION_BITS`.
     explored: AtomicU64,
+    /// Search nodes above this depth tighten the drive bounds ([`tighten_depth`]).
+    tighten_depth: usize,
+    tightened: AtomicU64,
 }
 
 impl<'a, 'f> Search<'a, 'f> {
@@ -81,6 +108,8 @@ impl<'a, 'f> Search<'a, 'f> {
             inherited: AtomicU64::new(0),
             pruned: AtomicU64::new(0),
             explored: AtomicU64::new(0),
+            tighten_depth: tighten_depth(m),
+            tightened: AtomicU64::new(0),
         }
     }
 
@@ -95,7 +124,7 @@ impl<'a, 'f> Search<'a, 'f> {
     }
 
     pub(crate) fn run(&self) {
-        self.explore(vec![Class::Free; self.m], 0, None, None);
+        self.explore(vec![Class::Free; self.m], 0, None, None, None);
     }
 
     pub(crate) fn finish(self) -> Tree {
@@ -105,6 +134,7 @@ impl<'a, 'f> Search<'a, 'f> {
             nodes: self.nodes.into_inner(),
             inherited: self.inherited.into_inner(),
             pruned: self.pruned.into_inner(),
+            tightened: self.tightened.into_inner(),
         }
     }
 
@@ -123,6 +153,7 @@ impl<'a, 'f> Search<'a, 'f> {
         depth: usize,
         inherited: Option<Vec<f64>>,
         warm: Option<Arc<Basis>>,
+        drive: Option<Arc<Drive>>,
     ) {
         if self.control.must_stop(0) {
             return;
@@ -137,6 +168,43 @@ impl<'a, 'f> Search<'a, 'f> {
             self.close(depth);
             return;
         }
+        let form = self.lp.form();
+        let counters = &self.lp.counters;
+        let (mut drive, mut warm, mut inherited) = (drive, warm, inherited);
+        if !free.is_empty() && depth < self.tighten_depth {
+            // Bound the free nodes' drives over this node's relaxation (with the cuts known so
+            // far); the relaxation itself first, whose basis starts every tightening program.
+            self.tightened.fetch_add(1, Ordering::Relaxed);
+            let shape = Shape {
+                mu: form.mu,
+                drive: drive.as_ref(),
+            };
+            let (first, basis) = node_lp::decide(
+                form,
+                counters,
+                &classes,
+                shape,
+                Norm::Sum,
+                None,
+                warm.as_deref(),
+            );
+            let start = basis.or_else(|| warm.as_deref().cloned());
+            let tight = if first == Decision::No {
+                None
+            } else {
+                let minimise = node_lp::relaxation(form, counters, &classes, shape, start.clone());
+                cuts::tighten(form, &classes, drive.as_deref(), &minimise)
+            };
+            let Some(tight) = tight else {
+                self.pruned.fetch_add(1, Ordering::Relaxed);
+                self.close(depth);
+                return;
+            };
+            drive = Some(Arc::new(tight));
+            // The inherited solution may break the new cuts: solve again.
+            inherited = None;
+            warm = start.map(Arc::new);
+        }
         let (witness, basis) = match inherited {
             Some(r) => {
                 self.inherited.fetch_add(1, Ordering::Relaxed);
@@ -148,7 +216,29 @@ impl<'a, 'f> Search<'a, 'f> {
                 } else {
                     Norm::Pressed(&contact)
                 };
-                let (decision, basis) = self.lp.decide(&classes, norm, warm.as_deref());
+                // Towards a vertex: the least total of the free nodes' gaps and pressures (a
+                // point at which few free nodes break complementarity, so the branching rule
+                // picks well, as in `critical`'s `bnb`).
+                let mut objective = vec![0.0; 2 * m];
+                for &j in &free {
+                    for (a, g) in objective.iter_mut().zip(form.gap_row(j)) {
+                        *a += g;
+                    }
+                    objective[2 * j] += 1.0;
+                }
+                let shape = Shape {
+                    mu: form.mu,
+                    drive: drive.as_ref(),
+                };
+                let (decision, basis) = node_lp::decide(
+                    form,
+                    counters,
+                    &classes,
+                    shape,
+                    norm,
+                    (!free.is_empty()).then_some(&objective[..]),
+                    warm.as_deref(),
+                );
                 let basis = basis.map(Arc::new).or(warm);
                 match decision {
                     Decision::No => {
@@ -207,9 +297,16 @@ impl<'a, 'f> Search<'a, 'f> {
         let mut separated_child = classes;
         separated_child[branch] = Class::Separated;
         let other = basis.clone();
+        let other_drive = drive.clone();
         rayon::join(
-            || self.explore(contact_child, depth + 1, to_contact, basis),
-            || self.explore(separated_child, depth + 1, to_separated, other),
+            || self.explore(contact_child, depth + 1, to_contact, basis, drive),
+            || self.explore(separated_child, depth + 1, to_separated, other, other_drive),
         );
     }
+}
+
+/// The depth down to which search nodes tighten the drive bounds of a problem of `m` nodes
+/// (nodes at depths below it tighten; the rest inherit the bounds).
+pub(crate) fn tighten_depth(m: usize) -> usize {
+    TIGHTEN_DEPTH.max(m / TIGHTEN_PER_DEPTH)
 }

@@ -1,4 +1,5 @@
-//! Cuts for `bnb` from bounds on the drive of the undecided nodes.
+//! Cuts for the searches over contact sets (`critical`'s `bnb`, the enumeration's `rays/search`)
+//! from bounds on the drive of the undecided nodes.
 //!
 //! The relaxation of a search node lets an undecided node press with its gap open, and on a
 //! long wall many nodes can each do so: the bound then bites only deep in the tree. These
@@ -6,7 +7,7 @@
 //!
 //! Node `j`'s **drive** is the gap that the other reactions open at it:
 //! `w_j = u_n_j - c_j r_n_j`, with `c_j = C_{n_j n_j} > 0` its own normal compliance (in the
-//! scaled gap units of [`crate::patterns::program`]). In every solution either `r_n_j = 0`
+//! scaled gap units of [`super::program`]). In every solution either `r_n_j = 0`
 //! (then `u_n_j = w_j >= 0`) or `u_n_j = 0` (then `c_j r_n_j = -w_j`), so
 //!
 //! ```text
@@ -43,7 +44,7 @@ pub(crate) type Drive = Vec<(f64, f64)>;
 
 /// Each bound from the solver is widened by this much, relative to `1 + sum_k |w_k r_k|` (the
 /// terms of the drive at the optimum: drives are of order one in the scaled units, and the
-/// optimality check of [`crate::socp`] bounds the error of an optimal value by `1e-7` of its
+/// optimality check of [`super::socp`] bounds the error of an optimal value by `1e-7` of its
 /// terms plus `1e-8` normwise).
 const MARGIN: f64 = 1e-5;
 
@@ -99,7 +100,7 @@ pub(crate) fn rows(form: &Formulation, classes: &[Class], drive: &[(f64, f64)]) 
 /// greatest drive over its relaxation at a finite `mu` with `sum r_n = 1` and the cuts of
 /// `drive`, intersected with `drive`. `minimise` solves that relaxation with a linear
 /// objective over the reaction components (by Clarabel, [`clarabel_relaxation`], or by the
-/// simplex method, `critical/lp.rs`). `None` when the relaxation is infeasible (certified by
+/// simplex method, [`super::node_lp`]). `None` when the relaxation is infeasible (certified by
 /// the solver: the subtree has no solution at `mu` or below). A bound the solver cannot
 /// decide stays as it was.
 pub(crate) fn tighten(
@@ -169,7 +170,7 @@ pub(crate) fn clarabel_relaxation<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::critical::lp::{self, LpCounters, Shape};
+    use crate::conic::node_lp::{self as lp, LpCounters, Shape};
     use crate::examples::random_spd_problem;
     use crate::rays::{enumerate, Settings};
     use std::sync::atomic::Ordering;

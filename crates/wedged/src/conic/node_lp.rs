@@ -1,5 +1,6 @@
-//! The 2D search node of `bnb` as a linear program for the in-house simplex method
-//! ([`crate::simplex`]), warm-started from the parent's basis.
+//! The 2D search node over contact sets (`critical`'s `bnb` and the enumeration's
+//! `rays/search`) as a linear program for the in-house simplex method ([`super::simplex`]),
+//! warm-started from the parent's basis.
 //!
 //! **The program** has one fixed shape for the whole search, so that a basis carries over from
 //! a node to its children and to its bound-tightening programs, which differ only in bounds
@@ -15,7 +16,7 @@
 //! The matrix depends on `mu` and on the drive bounds only; a [`Warm`] basis made for other
 //! ones keeps its basic set but forgets its inverse.
 //!
-//! **Answers** are checked by [`crate::simplex`] as [`crate::socp`] checks Clarabel's. A
+//! **Answers** are checked by [`super::simplex`] as [`super::socp`] checks Clarabel's. A
 //! program the simplex method cannot decide goes to Clarabel
 //! ([`Formulation::decide_cut`]); `fallbacks` counts those.
 
@@ -23,9 +24,17 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
 use super::cuts::{self, Drive};
-use crate::conic::program::{Class, Decision, Formulation, Goal, Norm};
-use crate::conic::simplex;
-use crate::conic::simplex::{Answer, Basis, Lp};
+use super::program::{Class, Decision, Formulation, Goal, Norm};
+use super::simplex::{self, Answer, Basis, Lp};
+
+/// The bound on the total pressure of a program normalised by [`Norm::Pressed`] (each contact
+/// node `r_n_i >= 1`): such a program asks for a solution that presses every contact node with
+/// at least `1 / PRESSED_TOTAL` of its total pressure, the resolution of the method
+/// ([`super::program::POSITIVE`]). Without it, a solution that presses one node a million
+/// times less than the others lies so far out that an infeasibility certificate may drop the
+/// terms that would have admitted it: on issue 20's plug at m = 60 two pieces whose thinnest
+/// contact pressure is 7e-7 of the total were lost that way.
+const PRESSED_TOTAL: f64 = 1.0 / super::program::POSITIVE;
 
 /// A basis and what its matrix was made for.
 #[derive(Debug, Clone)]
@@ -55,6 +64,8 @@ impl Shape<'_> {
 pub(crate) struct LpCounters {
     /// Programs the simplex method decided.
     pub solves: AtomicU64,
+    /// Simplex pivots, in all.
+    pub pivots: AtomicU64,
     /// Programs it could not, passed to Clarabel.
     pub fallbacks: AtomicU64,
 }
@@ -109,13 +120,20 @@ fn program(
             }
         }
     }
+    // Every friction edge is at most the total pressure: 1, or PRESSED_TOTAL when the
+    // contact nodes are pressed (bounds that make an infeasibility certificate need no term
+    // dropped, see `simplex`).
+    let cap = match norm {
+        Norm::Pressed(_) => PRESSED_TOTAL,
+        _ => 1.0,
+    };
     for (i, &c) in classes.iter().enumerate() {
         let has_r = c.has_r();
         let (a, b) = (2 * i, 2 * i + 1);
-        (lp.lo[a], lp.hi[a]) = (0.0, if has_r { f64::INFINITY } else { 0.0 });
+        (lp.lo[a], lp.hi[a]) = (0.0, if has_r { cap } else { 0.0 });
         (lp.lo[b], lp.hi[b]) = match (has_r, mu.is_finite()) {
             (false, _) => (0.0, 0.0),
-            (true, true) => (0.0, f64::INFINITY),
+            (true, true) => (0.0, cap),
             (true, false) => (f64::NEG_INFINITY, f64::INFINITY),
         };
         let gap = n + i;
@@ -130,6 +148,7 @@ fn program(
             for &i in nodes {
                 lp.lo[n + m + i] = 1.0;
             }
+            (lp.lo[n + 2 * m], lp.hi[n + 2 * m]) = (0.0, PRESSED_TOTAL);
         }
         Norm::Gap(_) => unreachable!("the search normalises by the sum or by pressed nodes"),
     }
@@ -184,7 +203,8 @@ pub(crate) fn decide(
 ) -> (Decision, Option<Warm>) {
     let lp = program(form, classes, shape, norm, objective);
     let basis = start(warm, shape);
-    let (answer, basis, _) = simplex::solve(&lp, basis.as_ref());
+    let (answer, basis, stats) = simplex::solve(&lp, basis.as_ref());
+    counters.pivots.fetch_add(stats.pivots, Ordering::Relaxed);
     let warm = Warm {
         basis,
         mu: shape.mu.to_bits(),

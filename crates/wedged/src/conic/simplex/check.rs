@@ -1,0 +1,112 @@
+//! The checks of the simplex method's answers (see the module docs of [`super`]): an optimal
+//! point against every bound, an infeasibility certificate against the bounds of every variable.
+
+use super::{Answer, Lp, CERT, TINY, TOL};
+
+/// The optimal point of columns `x`: row activities recomputed, every bound checked (see the
+/// module docs).
+pub(super) fn check_point(lp: &Lp, x: &[f64]) -> Result<Answer, String> {
+    let n = lp.n;
+    let mut all = x.to_vec();
+    let mut terms = vec![0.0; lp.total()];
+    for (j, v) in x.iter().enumerate() {
+        terms[j] = v.abs();
+    }
+    for k in 0..lp.rows {
+        let row = &lp.a[k * n..(k + 1) * n];
+        all.push(row.iter().zip(x).map(|(a, b)| a * b).sum());
+        terms[n + k] = row.iter().zip(x).map(|(a, b)| (a * b).abs()).sum();
+    }
+    for (j, &v) in all.iter().enumerate() {
+        if !v.is_finite() {
+            return Err(format!("variable {j} is not finite"));
+        }
+        let allowed = TOL * (1.0 + terms[j]);
+        if v < lp.lo[j] - allowed || v > lp.hi[j] + allowed {
+            return Err(format!(
+                "variable {j} = {v:e} is outside [{:e}, {:e}]",
+                lp.lo[j], lp.hi[j]
+            ));
+        }
+    }
+    let value = all.iter().zip(&lp.cost).map(|(a, b)| a * b).sum();
+    Ok(Answer::Optimal { x: all, value })
+}
+
+/// An infeasibility certificate `y` (one multiplier per row), checked as the module docs say.
+pub(super) fn check_certificate(lp: &Lp, y: &[f64]) -> Result<Answer, String> {
+    if y.iter().any(|v| !v.is_finite()) {
+        return Err("the certificate is not finite".into());
+    }
+    let c = lp.row_times(y);
+    let cmax = c.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    if cmax == 0.0 {
+        return Err("the certificate is zero".into());
+    }
+    // The least and the greatest of c . v over the bounds, from the finite terms, and
+    // whether a non-tiny term is unbounded that way. A row activity's bounds are its own
+    // intersected with those its columns' bounds imply, so that a program whose columns are
+    // all bounded needs no term dropped.
+    let bounds = effective_bounds(lp);
+    let (mut least, mut most, mut least_terms, mut most_terms) = (0.0, 0.0, 0.0, 0.0);
+    let (mut least_open, mut most_open) = (false, false);
+    for (j, &cj) in c.iter().enumerate() {
+        let (lo, hi) = bounds[j];
+        if cj.abs() <= TINY * cmax && !(lo.is_finite() && hi.is_finite()) {
+            continue;
+        }
+        let (at_least, at_most) = if cj > 0.0 { (lo, hi) } else { (hi, lo) };
+        if at_least.is_finite() {
+            least += cj * at_least;
+            least_terms += (cj * at_least).abs();
+        } else {
+            least_open = true;
+        }
+        if at_most.is_finite() {
+            most += cj * at_most;
+            most_terms += (cj * at_most).abs();
+        } else {
+            most_open = true;
+        }
+    }
+    // Each side against the terms it is made of.
+    let clear = |terms: f64| CERT * terms.max(f64::MIN_POSITIVE);
+    if (!least_open && least > clear(least_terms)) || (!most_open && most < -clear(most_terms)) {
+        Ok(Answer::Infeasible { y: y.to_vec() })
+    } else {
+        Err("the certificate does not exclude every point".into())
+    }
+}
+
+/// The bounds of every variable: a column's own, a row activity's own intersected with the
+/// interval that its columns' bounds imply (`A_k . x` over the box; infinite where a column
+/// is unbounded the way that matters).
+fn effective_bounds(lp: &Lp) -> Vec<(f64, f64)> {
+    let n = lp.n;
+    let mut out: Vec<(f64, f64)> = (0..lp.total()).map(|j| (lp.lo[j], lp.hi[j])).collect();
+    for k in 0..lp.rows {
+        let row = &lp.a[k * n..(k + 1) * n];
+        let (mut lo, mut hi) = (0.0, 0.0);
+        for (j, &a) in row.iter().enumerate() {
+            if a == 0.0 {
+                continue;
+            }
+            let (at_lo, at_hi) = if a > 0.0 {
+                (lp.lo[j], lp.hi[j])
+            } else {
+                (lp.hi[j], lp.lo[j])
+            };
+            lo += a * at_lo;
+            hi += a * at_hi;
+        }
+        // An infinite sum (or inf - inf) leaves the row's own bound.
+        let (own_lo, own_hi) = out[n + k];
+        if lo.is_finite() {
+            out[n + k].0 = own_lo.max(lo);
+        }
+        if hi.is_finite() {
+            out[n + k].1 = own_hi.min(hi);
+        }
+    }
+    out
+}
