@@ -72,10 +72,7 @@ pub use patterns::{
     PatternMethod, PatternSettings, Patterns,
 };
 pub use problem::{Problem, ProblemError};
-pub use rays::{
-    enumerate, enumerate_with_control, enumerate_with_progress, Enumeration, Info, Method,
-    Progress, Settings,
-};
+pub use rays::{enumerate, enumerate_with_control, Enumeration, Info, Method, Progress, Settings};
 #[doc(hidden)]
 pub use run::Fault;
 pub use run::{EnumerateError, Error, Limits, Outcome, Stop};

@@ -16,6 +16,13 @@
 //!
 //! Non-square and non-finite matrices are read as they are: the library
 //! reports those problems itself, with their location.
+//!
+//! **Why not a crate** (issue 19 asked): `nalgebra-sparse`'s reader (`io` feature) accepts a
+//! position given twice and keeps both entries (its documentation says so), which a later
+//! conversion adds up: a stiffness entry written twice would be doubled without a word; and it
+//! refuses an `integer` file read as `f64` (`TypeMismatch`). Ours refuses the first, reads the
+//! second, and names the file, the line and the entry in every error (the hostile fixtures of
+//! `tests/hostile.rs`). The format is small; this reader stays.
 
 use std::collections::HashMap;
 use std::fmt;

@@ -37,20 +37,14 @@ use verify::polish_and_verify;
 /// Enumerates the complementary extreme rays and the maximal cross-complementary sets of a 2D
 /// problem.
 pub fn enumerate(problem: &Problem, settings: &Settings) -> Result<Enumeration, EnumerateError> {
-    enumerate_with_progress(problem, settings, &|_| {})
+    enumerate_with_control(problem, settings, &|_| {}, &AtomicBool::new(false))
 }
 
-/// [`enumerate`], calling `progress` as the run goes (from the calling thread).
-pub fn enumerate_with_progress(
-    problem: &Problem,
-    settings: &Settings,
-    progress: &dyn Fn(Progress),
-) -> Result<Enumeration, EnumerateError> {
-    enumerate_with_control(problem, settings, progress, &AtomicBool::new(false))
-}
-
-/// [`enumerate_with_progress`], stopping cleanly ([`Outcome::Incomplete`]) as soon as `cancel`
-/// is set (by a Ctrl-C handler, say) or a limit of `settings.limits` is reached.
+/// [`enumerate`], calling `progress` as the run goes (from the calling thread) and stopping
+/// cleanly ([`Outcome::Incomplete`]) as soon as `cancel` is set (by a Ctrl-C handler, say) or
+/// a limit of `settings.limits` is reached. Every algorithm has this pair of entry points: the
+/// plain call, and `_with_control` with a progress callback and a cancellation flag
+/// ([`crate::enumerate_patterns_with_control`], [`crate::critical_with_control`]).
 pub fn enumerate_with_control(
     problem: &Problem,
     settings: &Settings,
