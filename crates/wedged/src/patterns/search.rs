@@ -19,9 +19,9 @@ use rayon::prelude::*;
 use super::{Found, PatternInfo, Undecided};
 use crate::conic::contact_lp::{ContactLp, Entry2};
 use crate::conic::program::{Class, Formulation};
-use crate::rays::search::tree::Search;
+use crate::rays::search::tree::search;
 use crate::rays::Progress;
-use crate::run::{with_progress, Control};
+use crate::run::Control;
 use crate::solution::ContactPattern;
 
 pub(super) fn run(
@@ -32,17 +32,7 @@ pub(super) fn run(
 ) -> Found {
     let m = form.m;
     let lp = ContactLp::new(form);
-    let gap_of = |r: &[f64], i: usize| form.gap_of(r, i);
-    let search = Search::new(&lp, control, m, &gap_of);
-    let report = |s: &Search| {
-        progress(Progress {
-            done: (s.explored() * 1000.0).round() as usize,
-            total: 1000,
-            rays: s.leaves_found(),
-        })
-    };
-    with_progress(|| search.run(), || report(&search));
-    let tree = search.finish();
+    let tree = search(&lp, control, progress);
     info.nodes_visited = tree.nodes;
     info.nodes_inherited = tree.inherited;
     info.pruned_infeasible = tree.pruned;

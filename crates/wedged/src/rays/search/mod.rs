@@ -28,7 +28,7 @@ use super::params::{Info, Progress, RawRay, Settings};
 use crate::conic::contact_lp::{ContactLp, LeafSupport};
 use crate::conic::program::{Class, Formulation};
 use crate::problem::Problem;
-use crate::run::{with_progress, Control, Stop};
+use crate::run::{Control, Stop};
 use crate::solution::NodeStatus;
 
 /// Runs the method; returns the rays found and, when some decision could not be made, that
@@ -40,21 +40,10 @@ pub(crate) fn run(
     progress: &dyn Fn(Progress),
     control: &Control,
 ) -> (Vec<RawRay>, Option<Stop>) {
-    let m = problem.nodes();
     let (scaled, scales) = problem.equilibrated();
     let form = Formulation::new(&scaled);
     let lp = ContactLp::new(&form);
-    let gap_of = |r: &[f64], i: usize| form.gap_of(r, i);
-    let search = tree::Search::new(&lp, control, m, &gap_of);
-    let report = |s: &tree::Search| {
-        progress(Progress {
-            done: (s.explored() * 1000.0).round() as usize,
-            total: 1000,
-            rays: s.leaves_found(),
-        })
-    };
-    with_progress(|| search.run(), || report(&search));
-    let tree = search.finish();
+    let tree = tree::search(&lp, control, progress);
     info.search_nodes = tree.nodes;
     info.search_inherited = tree.inherited;
     info.search_pruned = tree.pruned;

@@ -37,7 +37,8 @@ use crate::conic::contact_lp::ContactLp;
 use crate::conic::cuts::{self, Drive};
 use crate::conic::node_lp::{self, Shape, Warm as Basis};
 use crate::conic::program::{Class, Decision, Norm, POSITIVE};
-use crate::run::Control;
+use crate::rays::Progress;
+use crate::run::{with_progress, Control};
 
 /// A solution's gap or reaction component at most this (with `sum r_n = 1`, gaps scaled) counts
 /// as zero when deciding whether a child inherits it.
@@ -73,11 +74,26 @@ pub(crate) struct Tree {
     pub tightened: u64,
 }
 
-pub(crate) struct Search<'a, 'f> {
+/// Searches the contact sets of `lp`'s formulation (both 2D search methods), reporting the
+/// explored share of the tree (`done` of `total`) and the leaves found (`rays`) to `progress`
+/// from the calling thread.
+pub(crate) fn search(lp: &ContactLp, control: &Control, progress: &dyn Fn(Progress)) -> Tree {
+    let search = Search::new(lp, control);
+    let report = || {
+        progress(Progress {
+            done: (search.explored() * 1000.0).round() as usize,
+            total: 1000,
+            rays: search.leaves_found(),
+        })
+    };
+    with_progress(|| search.run(), report);
+    search.finish()
+}
+
+struct Search<'a, 'f> {
     lp: &'a ContactLp<'f>,
     control: &'a Control<'a>,
     m: usize,
-    gap_of: &'a (dyn Fn(&[f64], usize) -> f64 + Sync),
     leaves: Mutex<Vec<Vec<bool>>>,
     undecided: AtomicU64,
     nodes: AtomicU64,
@@ -91,17 +107,12 @@ pub(crate) struct Search<'a, 'f> {
 }
 
 impl<'a, 'f> Search<'a, 'f> {
-    pub(crate) fn new(
-        lp: &'a ContactLp<'f>,
-        control: &'a Control<'a>,
-        m: usize,
-        gap_of: &'a (dyn Fn(&[f64], usize) -> f64 + Sync),
-    ) -> Search<'a, 'f> {
+    fn new(lp: &'a ContactLp<'f>, control: &'a Control<'a>) -> Search<'a, 'f> {
+        let m = lp.form().m;
         Search {
             lp,
             control,
             m,
-            gap_of,
             leaves: Mutex::new(Vec::new()),
             undecided: AtomicU64::new(0),
             nodes: AtomicU64::new(0),
@@ -114,20 +125,20 @@ impl<'a, 'f> Search<'a, 'f> {
     }
 
     /// The explored share of the tree, in `[0, 1]`.
-    pub(crate) fn explored(&self) -> f64 {
+    fn explored(&self) -> f64 {
         self.explored.load(Ordering::Relaxed) as f64 / (1u64 << FRACTION_BITS) as f64
     }
 
     /// Leaves found so far.
-    pub(crate) fn leaves_found(&self) -> usize {
+    fn leaves_found(&self) -> usize {
         self.leaves.lock().map_or(0, |l| l.len())
     }
 
-    pub(crate) fn run(&self) {
+    fn run(&self) {
         self.explore(vec![Class::Free; self.m], 0, None, None, None);
     }
 
-    pub(crate) fn finish(self) -> Tree {
+    fn finish(self) -> Tree {
         Tree {
             leaves: self.leaves.into_inner().unwrap_or_default(),
             undecided: self.undecided.into_inner(),
@@ -265,7 +276,7 @@ impl<'a, 'f> Search<'a, 'f> {
             Some(r) => {
                 let key = |i: usize| {
                     let rn = r[2 * i];
-                    let gap = (self.gap_of)(r, i).max(0.0);
+                    let gap = self.lp.form().gap_of(r, i).max(0.0);
                     (gap * rn, rn)
                 };
                 let order = |a: usize, b: usize| {
@@ -280,7 +291,7 @@ impl<'a, 'f> Search<'a, 'f> {
         };
         let (to_contact, to_separated) = match &witness {
             Some(r) => {
-                let (gap, rn) = ((self.gap_of)(r, branch), r[2 * branch]);
+                let (gap, rn) = (self.lp.form().gap_of(r, branch), r[2 * branch]);
                 let closed = gap.abs() <= INHERIT_ZERO;
                 let none = r[2 * branch..2 * branch + 2]
                     .iter()
