@@ -66,6 +66,25 @@ fn search_agrees_with_pruned_dd_on_300_random_instances() {
     );
 }
 
+/// A random transformation of `k` ([`transformed`], then scaled as a whole by `2^-30` to
+/// `2^30`): the node order, the flipped tangents, the node scales (`2^-20` to `2^20`) and the
+/// transformed matrix.
+fn random_transform(
+    rng: &mut ChaCha8Rng,
+    k: &DMatrix<f64>,
+) -> (Vec<usize>, Vec<bool>, Vec<f64>, DMatrix<f64>) {
+    let m = k.nrows() / 2;
+    let mut order: Vec<usize> = (0..m).collect();
+    for i in (1..m).rev() {
+        order.swap(i, rng.gen_range(0..=i));
+    }
+    let flip: Vec<bool> = (0..m).map(|_| rng.gen_bool(0.5)).collect();
+    let scale: Vec<f64> = (0..m).map(|_| 2f64.powi(rng.gen_range(-20..=20))).collect();
+    let whole = 2f64.powi(rng.gen_range(-30..=30));
+    let k2 = transformed(k, &order, &flip, &scale) * whole;
+    (order, flip, scale, k2)
+}
+
 /// `T K T` for `T` = a node permutation (new node `a` is old node `order[a]`), a sign per node
 /// on the tangent, and a power of two per node.
 fn transformed(k: &DMatrix<f64>, order: &[usize], flip: &[bool], scale: &[f64]) -> DMatrix<f64> {
@@ -86,14 +105,7 @@ fn search_is_invariant_under_renumbering_flips_and_node_scales() {
         let k = random_spd(&mut rng, 2 * m);
         let mu = rng.gen_range(0.5..3.0);
         let base = run(&Problem::new(2, k.clone(), mu).unwrap(), Method::Search);
-        let mut order: Vec<usize> = (0..m).collect();
-        for i in (1..m).rev() {
-            order.swap(i, rng.gen_range(0..=i));
-        }
-        let flip: Vec<bool> = (0..m).map(|_| rng.gen_bool(0.5)).collect();
-        let scale: Vec<f64> = (0..m).map(|_| 2f64.powi(rng.gen_range(-20..=20))).collect();
-        let whole = 2f64.powi(rng.gen_range(-30..=30));
-        let k2 = transformed(&k, &order, &flip, &scale) * whole;
+        let (order, flip, scale, k2) = random_transform(&mut rng, &k);
         let e = run(&Problem::new(2, k2, mu).unwrap(), Method::Search);
         // Map the transformed answer back: node `new` is old `order[new]`, slips flip with
         // the tangent.
@@ -202,14 +214,7 @@ fn pattern_search_is_invariant_under_renumbering_flips_and_node_scales() {
         let k = random_spd(&mut rng, 2 * m);
         let mu = rng.gen_range(0.5..3.0);
         let base = pattern_search(&Problem::new(2, k.clone(), mu).unwrap());
-        let mut order: Vec<usize> = (0..m).collect();
-        for i in (1..m).rev() {
-            order.swap(i, rng.gen_range(0..=i));
-        }
-        let flip: Vec<bool> = (0..m).map(|_| rng.gen_bool(0.5)).collect();
-        let scale: Vec<f64> = (0..m).map(|_| 2f64.powi(rng.gen_range(-20..=20))).collect();
-        let whole = 2f64.powi(rng.gen_range(-30..=30));
-        let k2 = transformed(&k, &order, &flip, &scale) * whole;
+        let (order, _, scale, k2) = random_transform(&mut rng, &k);
         let e = pattern_search(&Problem::new(2, k2, mu).unwrap());
         let mut mapped: Vec<Vec<ContactPattern>> = e
             .patterns
