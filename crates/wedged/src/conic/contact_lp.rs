@@ -8,7 +8,7 @@
 
 use std::sync::atomic::Ordering;
 
-pub(crate) use super::node_lp::LpCounters;
+use super::node_lp::LpCounters;
 use super::program::{Class, Decision, Formulation, Goal, Norm};
 use super::simplex::{self, Answer, Lp};
 

@@ -41,6 +41,15 @@ impl Class {
     }
 }
 
+/// The classes of the leaf of a contact set: contact where `contact` says so, separated
+/// elsewhere.
+pub(crate) fn leaf_classes(contact: &[bool]) -> Vec<Class> {
+    contact
+        .iter()
+        .map(|&c| if c { Class::Contact } else { Class::Separated })
+        .collect()
+}
+
 /// Classes as a string, one letter per node: `C` contact, `S` separated, `*` free, `G`
 /// grazing.
 pub(crate) fn describe(classes: &[Class]) -> String {

@@ -11,8 +11,8 @@
 
 use std::sync::atomic::Ordering;
 
-use super::{leaf_classes, CriticalInfo, CriticalProgress, Ctx, Found, Leaf, LOOSEST};
-use crate::conic::program::{Decision, Goal, Norm};
+use super::{CriticalInfo, CriticalProgress, Ctx, Found, Leaf, LOOSEST};
+use crate::conic::program::{leaf_classes, Decision, Goal, Norm};
 use crate::patterns::Undecided;
 use crate::run::Control;
 

@@ -58,7 +58,7 @@ use nalgebra::DMatrix;
 use crate::solution::{check_solution, tangential, ContactPattern, NodeStatus};
 
 use crate::conic::program::{
-    solve_again, Class, Counters, Decision, Formulation, Goal, Norm, Refutation,
+    leaf_classes, solve_again, Counters, Decision, Formulation, Goal, Norm, Refutation,
 };
 use crate::patterns::Undecided;
 use crate::problem::Problem;
@@ -455,14 +455,6 @@ pub(crate) struct Leaf {
     pub theta: f64,
     pub r: Vec<f64>,
     pub lower: f64,
-}
-
-/// The classes of the leaf of a contact set.
-pub(crate) fn leaf_classes(contact: &[bool]) -> Vec<Class> {
-    contact
-        .iter()
-        .map(|&c| if c { Class::Contact } else { Class::Separated })
-        .collect()
 }
 
 /// A pressure below this share of the largest one (with `sum r_n = 1`) is taken as zero when a

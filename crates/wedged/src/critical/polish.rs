@@ -28,8 +28,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::leaf_classes;
-use crate::conic::program::{Cut, Formulation, Refutation};
+use crate::conic::program::{leaf_classes, Cut, Formulation, Refutation};
 
 /// Where the tight constraints are read, as shares of `theta` below it.
 const STEPS: [f64; 3] = [1e-4, 1e-3, 1e-5];

@@ -7,7 +7,7 @@
 //! formulation of one conic program.
 
 use super::{describe, pattern_of, Found, PatternInfo, Undecided};
-use crate::conic::program::{Class, Decision, Entry, Formulation, Goal, Norm, POSITIVE};
+use crate::conic::program::{leaf_classes, Decision, Entry, Formulation, Goal, Norm, POSITIVE};
 use crate::run::Control;
 
 pub(super) fn run(form: &Formulation, info: &mut PatternInfo, control: &Control) -> Found {
@@ -21,10 +21,7 @@ pub(super) fn run(form: &Formulation, info: &mut PatternInfo, control: &Control)
             break;
         }
         let contact: Vec<bool> = (0..m).map(|i| set >> i & 1 == 1).collect();
-        let classes: Vec<Class> = contact
-            .iter()
-            .map(|&c| if c { Class::Contact } else { Class::Separated })
-            .collect();
+        let classes = leaf_classes(&contact);
         let entries = (0..m).map(|i| {
             if contact[i] {
                 Entry::Press(i)

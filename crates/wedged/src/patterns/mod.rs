@@ -34,7 +34,9 @@ use std::fmt;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-use crate::conic::program::{self, describe, Class, Counters, Entry, Formulation, Norm, POSITIVE};
+use crate::conic::program::{
+    self, describe, leaf_classes, Class, Counters, Entry, Formulation, Norm, POSITIVE,
+};
 pub use certify::PatternCertificate;
 
 use crate::run::{check_zero_tol, Control, EnumerateError, Limits, Outcome, Stop};
@@ -528,10 +530,7 @@ pub(crate) fn leaf_pattern(
     form: &Formulation,
     contact: &[bool],
 ) -> Result<Option<Vec<ContactPattern>>, String> {
-    let classes: Vec<Class> = contact
-        .iter()
-        .map(|&c| if c { Class::Contact } else { Class::Separated })
-        .collect();
+    let classes = leaf_classes(contact);
     // One support program: a node of the contact set that no solution presses is missing
     // from the support, and then the leaf has no pattern of its own.
     let mut wanted: Vec<Entry> = (0..form.m)

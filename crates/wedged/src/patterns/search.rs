@@ -18,7 +18,7 @@ use rayon::prelude::*;
 
 use super::{Found, PatternInfo, Undecided};
 use crate::conic::contact_lp::{ContactLp, Entry2};
-use crate::conic::program::{Class, Formulation};
+use crate::conic::program::{leaf_classes, Formulation};
 use crate::rays::search::tree::search;
 use crate::rays::Progress;
 use crate::run::Control;
@@ -42,10 +42,7 @@ pub(super) fn run(
         .leaves
         .par_iter()
         .map(|contact| {
-            let classes: Vec<Class> = contact
-                .iter()
-                .map(|&c| if c { Class::Contact } else { Class::Separated })
-                .collect();
+            let classes = leaf_classes(contact);
             let support = lp.support(&classes)?;
             Ok(support.map(|s| {
                 (0..m)

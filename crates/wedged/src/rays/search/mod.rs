@@ -26,7 +26,7 @@ use rayon::prelude::*;
 
 use super::params::{Info, Progress, RawRay, Settings};
 use crate::conic::contact_lp::{ContactLp, LeafSupport};
-use crate::conic::program::{Class, Formulation};
+use crate::conic::program::{leaf_classes, Formulation};
 use crate::problem::Problem;
 use crate::run::{Control, Stop};
 use crate::solution::NodeStatus;
@@ -57,10 +57,7 @@ pub(crate) fn run(
         tree.leaves
             .par_iter()
             .map(|contact| {
-                let classes: Vec<Class> = contact
-                    .iter()
-                    .map(|&c| if c { Class::Contact } else { Class::Separated })
-                    .collect();
+                let classes = leaf_classes(contact);
                 match lp.support(&classes) {
                     Ok(None) => Ok((Vec::new(), face::FaceStats::default())),
                     Ok(Some(support)) => face::rays(&form, &classes, &support, tol),
