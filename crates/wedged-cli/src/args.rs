@@ -2,10 +2,8 @@
 
 use std::path::PathBuf;
 
-use clap::builder::PossibleValue;
-use clap::{Args, Parser, Subcommand, ValueEnum};
-use wedged::patterns::{PatternMethod, DEFAULT_PYRAMID_FACES};
-use wedged::{CriticalMethod, Method};
+use clap::{Args, Parser, Subcommand};
+pub(crate) use wedged_cli::jobs::{CriticalMethodArg, MethodArg};
 
 pub(crate) const EXIT_CODES: &str = "\
 Exit codes:
@@ -138,31 +136,6 @@ pub(crate) struct CriticalCommon {
     pub(crate) time_limit: Option<f64>,
 }
 
-/// A [`CriticalMethod`] as a command-line value, named by its `name()`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct CriticalMethodArg(pub(crate) CriticalMethod);
-
-impl ValueEnum for CriticalMethodArg {
-    fn value_variants<'a>() -> &'a [Self] {
-        &[
-            CriticalMethodArg(CriticalMethod::Bnb),
-            CriticalMethodArg(CriticalMethod::Enumerate),
-            CriticalMethodArg(CriticalMethod::Faces),
-        ]
-    }
-
-    fn to_possible_value(&self) -> Option<PossibleValue> {
-        let help = match self.0 {
-            CriticalMethod::Bnb => "branch and bound over contact sets with an incumbent",
-            CriticalMethod::Enumerate => {
-                "the maximal patterns at a large mu, then each one's threshold (as `sweep`)"
-            }
-            CriticalMethod::Faces => "every contact set, each threshold by bisection (m <= 12)",
-        };
-        Some(PossibleValue::new(self.0.name()).help(help))
-    }
-}
-
 #[derive(Debug, Args)]
 pub(crate) struct EnumerateArgs {
     /// The problem file (TOML; see --help for its format).
@@ -249,75 +222,6 @@ pub(crate) struct JsonArg {
     /// to stdout instead of the summary.
     #[arg(long, value_name = "OUT.json")]
     pub(crate) json: Option<PathBuf>,
-}
-
-/// A ray [`Method`] or a [`PatternMethod`] as a command-line value, named by their `name()`.
-/// The pyramid's number of faces comes from `--pyramid-faces`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum MethodArg {
-    Rays(Method),
-    Patterns(PatternMethod),
-}
-
-impl MethodArg {
-    pub(crate) fn name(self) -> &'static str {
-        match self {
-            MethodArg::Rays(m) => m.name(),
-            MethodArg::Patterns(m) => m.name(),
-        }
-    }
-}
-
-impl ValueEnum for MethodArg {
-    fn value_variants<'a>() -> &'a [Self] {
-        &[
-            MethodArg::Rays(Method::PrunedDd),
-            MethodArg::Rays(Method::FullDd),
-            MethodArg::Rays(Method::Faces),
-            MethodArg::Rays(Method::Exact),
-            MethodArg::Rays(Method::Search),
-            MethodArg::Patterns(PatternMethod::Bnb),
-            MethodArg::Patterns(PatternMethod::Pyramid {
-                faces: DEFAULT_PYRAMID_FACES,
-            }),
-            MethodArg::Patterns(PatternMethod::Faces),
-            MethodArg::Patterns(PatternMethod::Search),
-        ]
-    }
-
-    fn to_possible_value(&self) -> Option<PossibleValue> {
-        let help = match self {
-            MethodArg::Rays(Method::PrunedDd) => "2D rays: the seed's pruned double description",
-            MethodArg::Rays(Method::FullDd) => {
-                "2D rays: every extreme ray by double description, then a filter"
-            }
-            MethodArg::Rays(Method::Faces) => {
-                "2D rays: brute force over the 2^m contact sets (small m only)"
-            }
-            MethodArg::Rays(Method::Exact) => {
-                "2D rays: double description in exact rational arithmetic (as --exact)"
-            }
-            MethodArg::Rays(Method::Search) => {
-                "2D rays: depth-first search over contact sets (warm-started simplex), then the \
-                 rays of each face in its own dimension"
-            }
-            MethodArg::Patterns(PatternMethod::Bnb) => {
-                "patterns (2D, 3D): branch and bound with conic relaxations"
-            }
-            MethodArg::Patterns(PatternMethod::Pyramid { .. }) => {
-                "patterns (2D, 3D): the 2D algorithm on a pyramid around the friction cone, \
-                 candidates checked exactly"
-            }
-            MethodArg::Patterns(PatternMethod::Faces) => {
-                "patterns (2D, 3D): brute force over the 2^m contact sets (m <= 12)"
-            }
-            MethodArg::Patterns(PatternMethod::Search) => {
-                "patterns (2D): depth-first search over contact sets (warm-started simplex), \
-                 no rays; for large meshes"
-            }
-        };
-        Some(PossibleValue::new(self.name()).help(help))
-    }
 }
 
 /// A memory size: a number of bytes, or a number with `k`, `M`, `G` or `T` (powers of 1000),

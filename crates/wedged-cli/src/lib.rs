@@ -8,6 +8,8 @@
 //! these return an error, one line that names the source, and never panic.
 
 pub mod input;
+pub mod jobs;
+pub mod report;
 
 use std::cell::Cell;
 use std::panic::{self, AssertUnwindSafe};

@@ -9,7 +9,6 @@
 mod args;
 mod commands;
 mod draw;
-mod report;
 
 use std::panic::{self, AssertUnwindSafe};
 use std::process::ExitCode;
@@ -19,7 +18,7 @@ use std::sync::atomic::Ordering;
 
 use crate::args::*;
 use crate::commands::*;
-use wedged_cli::one_line;
+use wedged_cli::{one_line, report};
 
 fn main() -> ExitCode {
     let cli = Cli::parse();

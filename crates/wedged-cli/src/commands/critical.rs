@@ -1,14 +1,10 @@
 //! `wedged critical` and `wedged sweep`: the critical friction coefficient `mu*` with its
 //! bracket, and its step plot.
 
-use std::io::{self, IsTerminal};
 use std::path::Path;
 
 use wedged::fe::Model;
-use wedged::{
-    critical_with_control, Critical, CriticalMethod, CriticalProgress, CriticalSettings,
-    CriticalStatus, EnumerateError, Problem, Stop,
-};
+use wedged::{Critical, CriticalMethod, CriticalSettings, CriticalStatus, Problem, Stop};
 
 use super::*;
 use crate::args::*;
@@ -16,6 +12,7 @@ use crate::draw::sweep_svg;
 use crate::report::files::{JsonTarget, PendingFile};
 use crate::report::{self, summary};
 use wedged_cli::input::problem_file;
+use wedged_cli::jobs::{injected_fault, run_critical_library};
 
 /// What `critical` and `sweep` read and where they write.
 pub(crate) struct CriticalJob<'a> {
@@ -55,19 +52,6 @@ pub(crate) fn critical_job<'a>(
         json,
         svg,
     })
-}
-
-/// The test hook `WEDGED_INJECT_FAULT` (see `wedged::Fault`): tests set it to see an internal
-/// failure exit 1. An unknown name is an input error, so that a typo cannot pass unnoticed.
-fn injected_fault() -> Result<Option<wedged::Fault>, Failure> {
-    match std::env::var("WEDGED_INJECT_FAULT") {
-        Err(_) => Ok(None),
-        Ok(name) => wedged::Fault::parse(&name).map(Some).ok_or_else(|| {
-            Failure::Input(format!(
-                "WEDGED_INJECT_FAULT={name:?} is not a known fault (corrupt-witness)"
-            ))
-        }),
-    }
 }
 
 pub(crate) fn run_critical(args: CriticalArgs) -> Result<(), Failure> {
@@ -122,7 +106,7 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
         .map(|path| PendingFile::open(path, "SVG file"))
         .transpose()
         .map_err(|e| Failure::Input(e.to_string()))?;
-    let result = run_critical_library(&problem, &settings, &source)?;
+    let result = run_critical_library(&problem, &settings, &source, &INTERRUPTED, Show::Terminal)?;
     let json_text = json
         .as_ref()
         .map(|_| report::critical::to_json(&problem, &settings, &source, &result, model.as_ref()));
@@ -213,44 +197,3 @@ pub(crate) fn critical_incomplete_text(source: &str, result: &Critical, stop: St
     }
 }
 
-/// Runs the computation of `mu*` with the live progress line and sorts its errors into bad input
-/// and internal failures.
-pub(crate) fn run_critical_library(
-    problem: &Problem,
-    settings: &CriticalSettings,
-    source: &str,
-) -> Result<Critical, Failure> {
-    let start = std::time::Instant::now();
-    let live = io::stderr().is_terminal();
-    let shown = std::cell::Cell::new(false);
-    let progress = |p: CriticalProgress| {
-        if live && start.elapsed().as_secs_f64() > 1.0 {
-            eprint!(
-                "\r  {}   ",
-                critical_progress_text(p, start.elapsed().as_secs_f64())
-            );
-            shown.set(true);
-        }
-    };
-    let result = critical_with_control(problem, settings, &progress, &INTERRUPTED);
-    if shown.get() {
-        eprintln!();
-    }
-    result.map_err(|e| match e {
-        EnumerateError::InvalidSettings(m) => Failure::Input(format!("invalid option: {m}")),
-        e @ EnumerateError::UnsupportedDim(_) => Failure::Input(format!("{source}: {e}")),
-        e @ EnumerateError::Internal(_) => Failure::Internal(format!("{source}: {e}")),
-    })
-}
-
-/// The live progress line of `critical` and `sweep` (without its carriage return).
-pub(crate) fn critical_progress_text(p: CriticalProgress, seconds: f64) -> String {
-    let best = match p.upper {
-        Some(mu) => format!("best mu {}", crate::report::sig4(mu)),
-        None => "no wedged configuration yet".to_string(),
-    };
-    format!(
-        "explored {:.1}%, {best}, {seconds:.1} s",
-        100.0 * p.explored.clamp(0.0, 1.0)
-    )
-}

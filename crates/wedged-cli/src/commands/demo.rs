@@ -7,6 +7,7 @@ use super::*;
 use crate::args::*;
 use crate::report;
 use crate::report::answer::Choice;
+use wedged_cli::jobs::run_critical_library;
 
 pub(crate) fn run_demo(args: DemoArgs) -> Result<(), Failure> {
     let (model, mu) = wedged::examples::plug2d_demo()
@@ -42,7 +43,7 @@ pub(crate) fn run_demo(args: DemoArgs) -> Result<(), Failure> {
     )?;
     // The same plug's mu*, by branch and bound.
     let settings = CriticalSettings::default();
-    let result = run_critical_library(&problem, &settings, "demo")?;
+    let result = run_critical_library(&problem, &settings, "demo", &INTERRUPTED, Show::Terminal)?;
     let line = match report::critical::answer_line(&result, settings.tol) {
         Some(answer) => format!("\ncritical friction coefficient: {answer}\n"),
         None => format!(

@@ -1,15 +1,11 @@
 //! `wedged enumerate`: the rays and cones (2D) or the sign patterns (2D and 3D) of a problem,
 //! the summary, the JSON, the per-piece files.
 
-use std::io::{self, IsTerminal};
 use std::path::Path;
 
 use wedged::certify::certify_enumeration;
 use wedged::fe::Model;
-use wedged::patterns::{
-    enumerate_patterns_with_control, PatternMethod, PatternSettings, DEFAULT_PYRAMID_FACES,
-};
-use wedged::{enumerate_with_control, EnumerateError, Method, Problem, Progress, Settings, Stop};
+use wedged::{Problem, Stop};
 
 use super::*;
 use crate::args::*;
@@ -19,18 +15,10 @@ use crate::report::files::JsonTarget;
 use crate::report::json;
 use crate::report::summary;
 use wedged_cli::input::problem_file;
+use wedged_cli::jobs::{plan_enumerate, run_library, EnumerateOptions};
 
 pub(crate) fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
     let source = args.problem.display().to_string();
-    let faces = match args.pyramid_faces {
-        None => None,
-        Some(k) if (3..=64).contains(&k) => Some(k as usize),
-        Some(k) => {
-            return Err(Failure::Input(format!(
-                "--pyramid-faces must be from 3 to 64, got {k}"
-            )))
-        }
-    };
     let loaded = problem_file::load(&args.problem, args.mu.is_some())
         .map_err(|e| Failure::Input(e.to_string()))?;
     let problem = match args.mu {
@@ -40,72 +28,17 @@ pub(crate) fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
             .map_err(|e| Failure::Input(format!("--mu: {e}")))?,
         None => loaded.problem,
     };
-    let mut limits = time_limits(args.time_limit)?;
-    limits.max_rays = args.max_rays;
-    limits.max_memory = args.max_memory;
-    if args.exact {
-        if let Some(other) = args.method.filter(|&m| m != MethodArg::Rays(Method::Exact)) {
-            return Err(Failure::Input(format!(
-                "--exact runs the exact 2D ray enumeration (--method exact); it cannot be \
-                 combined with --method {}",
-                other.name()
-            )));
-        }
-        if problem.dim() != 2 {
-            return Err(Failure::Input(format!(
-                "{source}: dim = {}: --exact enumerates the rays of a 2D problem; a 3D problem \
-                 has sign patterns instead (--method bnb or pyramid)",
-                problem.dim()
-            )));
-        }
-    }
-    let method = match args.method {
-        Some(m) => m,
-        None if args.exact => MethodArg::Rays(Method::Exact),
-        None if problem.dim() == 2 => MethodArg::Rays(Method::PrunedDd),
-        None => MethodArg::Patterns(PatternMethod::Bnb),
+    let options = EnumerateOptions {
+        method: args.method,
+        pyramid_faces: args.pyramid_faces,
+        zero_tol: args.zero_tol,
+        time_limit: args.time_limit,
+        max_rays: args.max_rays,
+        max_memory: args.max_memory,
+        certify: args.certify,
+        exact: args.exact,
     };
-    if faces.is_some() && !matches!(method, MethodArg::Patterns(PatternMethod::Pyramid { .. })) {
-        return Err(Failure::Input(format!(
-            "--pyramid-faces is used by --method pyramid only, and the method is {}",
-            method.name()
-        )));
-    }
-    let mut choice = match method {
-        MethodArg::Rays(m) if problem.dim() != 2 => {
-            return Err(Failure::Input(format!(
-                "{source}: dim = {}: --method {} lists rays, which only a 2D problem has; use \
-                 --method bnb (the default in 3D) or --method pyramid",
-                problem.dim(),
-                m.name()
-            )))
-        }
-        MethodArg::Rays(method) => Choice::Rays(Settings {
-            method,
-            limits,
-            ..Settings::default()
-        }),
-        MethodArg::Patterns(PatternMethod::Pyramid { .. }) => Choice::Patterns(PatternSettings {
-            method: PatternMethod::Pyramid {
-                faces: faces.unwrap_or(DEFAULT_PYRAMID_FACES),
-            },
-            limits,
-            certify: args.certify,
-            ..PatternSettings::default()
-        }),
-        MethodArg::Patterns(method) => Choice::Patterns(PatternSettings {
-            method,
-            limits,
-            certify: args.certify,
-            ..PatternSettings::default()
-        }),
-    };
-    if let Some(t) = args.zero_tol {
-        match &mut choice {
-            Choice::Rays(s) => s.zero_tol = t,
-            Choice::Patterns(s) => s.zero_tol = t,
-        }
-    }
+    let choice = plan_enumerate(&problem, &source, &options)?;
     if loaded.model.is_none() {
         for (given, option) in [(args.vtk.is_some(), "--vtk"), (args.svg.is_some(), "--svg")] {
             if given {
@@ -168,7 +101,7 @@ pub(crate) fn report(
     if let Some(dir) = svg {
         export::prepare_dir(dir, "--svg", "svg").map_err(Failure::Input)?;
     }
-    let answer = run_library(problem, choice, source)?;
+    let answer = run_library(problem, choice, source, &INTERRUPTED, Show::Terminal)?;
     let rays_certificate = match (&answer, certify) {
         (Answer::Rays(result), true) => Some(certify_enumeration(problem, result)),
         _ => None,
@@ -270,70 +203,3 @@ pub(crate) fn incomplete_text(
     }
 }
 
-/// Runs the enumeration and sorts its errors into bad input and internal failures.
-pub(crate) fn run_library(
-    problem: &Problem,
-    choice: &Choice,
-    source: &str,
-) -> Result<Answer, Failure> {
-    // A live progress line on stderr, only for a person at a terminal and only once the run has
-    // lasted a second: pipes, files and CI logs stay clean.
-    let start = std::time::Instant::now();
-    let live = io::stderr().is_terminal();
-    let shown = std::cell::Cell::new(false);
-    let progress = |p: Progress| {
-        if live && start.elapsed().as_secs_f64() > 1.0 {
-            eprint!(
-                "\r  {}   ",
-                progress_text(choice, p, start.elapsed().as_secs_f64())
-            );
-            shown.set(true);
-        }
-    };
-    let result = match choice {
-        Choice::Rays(settings) => {
-            enumerate_with_control(problem, settings, &progress, &INTERRUPTED).map(Answer::Rays)
-        }
-        Choice::Patterns(settings) => {
-            enumerate_patterns_with_control(problem, settings, &progress, &INTERRUPTED)
-                .map(Answer::Patterns)
-        }
-    };
-    if shown.get() {
-        eprintln!();
-    }
-    result.map_err(|e| match e {
-        EnumerateError::UnsupportedDim(d) => Failure::Input(format!(
-            "{source}: dim = {d}: --method {} needs a 2D problem; use --method bnb or pyramid",
-            choice.name()
-        )),
-        EnumerateError::InvalidSettings(m) => Failure::Input(format!("invalid option: {m}")),
-        e @ EnumerateError::Internal(_) => Failure::Internal(format!("{source}: {e}")),
-    })
-}
-
-/// The live progress line (without its carriage return).
-pub(crate) fn progress_text(choice: &Choice, p: Progress, seconds: f64) -> String {
-    match choice {
-        Choice::Patterns(PatternSettings {
-            method: PatternMethod::Bnb,
-            ..
-        }) => format!(
-            "explored {:.1}% of the search tree, {} found, {seconds:.1} s",
-            100.0 * p.done as f64 / p.total.max(1) as f64,
-            if p.rays == 1 {
-                "1 pattern".to_string()
-            } else {
-                format!("{} patterns", p.rays)
-            }
-        ),
-        Choice::Patterns(_) => format!(
-            "pyramid approximation, node {}/{}: {} rays held, {seconds:.1} s",
-            p.done, p.total, p.rays
-        ),
-        Choice::Rays(_) => format!(
-            "node {}/{}: {} rays held, {seconds:.1} s",
-            p.done, p.total, p.rays
-        ),
-    }
-}

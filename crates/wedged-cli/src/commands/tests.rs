@@ -5,6 +5,8 @@ use crate::report::answer::{Answer, Choice};
 use clap::{CommandFactory, ValueEnum};
 use wedged::patterns::{PatternMethod, PatternSettings};
 use wedged::{CriticalProgress, Method, Problem, Progress, Settings, Stop};
+use std::time::Duration;
+use wedged_cli::jobs::{critical_progress_text, progress_text};
 use wedged_cli::one_line;
 
 #[test]

@@ -9,7 +9,7 @@ pub mod json;
 pub mod summary;
 
 /// A number with at most 4 significant digits, for labels.
-pub(crate) fn sig4(v: f64) -> String {
+pub fn sig4(v: f64) -> String {
     if !v.is_finite() {
         return format!("{v}");
     }
@@ -35,7 +35,7 @@ pub(crate) fn sig4(v: f64) -> String {
 }
 
 /// Strips trailing zeros of a decimal number's fraction.
-pub(crate) fn trim_zeros(s: &str) -> String {
+pub fn trim_zeros(s: &str) -> String {
     if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.').to_string()
     } else {

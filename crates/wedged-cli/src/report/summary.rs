@@ -29,9 +29,9 @@ const LIST_LIMIT: usize = 50;
 const STATUS_LEGEND: &str = "o separated, s stick, + slip+, - slip-, g grazing";
 /// The legend of 3D statuses: slip is on the round friction cone, in no particular direction.
 const STATUS_LEGEND_3D: &str = "o separated, s stick, ~ slip, g grazing";
-pub(crate) const PATTERN_LEGEND: &str = "C contact, o separated, g grazing";
+pub const PATTERN_LEGEND: &str = "C contact, o separated, g grazing";
 
-pub(crate) fn status_code(s: NodeStatus) -> char {
+pub fn status_code(s: NodeStatus) -> char {
     match s {
         NodeStatus::Separated => 'o',
         NodeStatus::Stick => 's',
@@ -43,7 +43,7 @@ pub(crate) fn status_code(s: NodeStatus) -> char {
 }
 
 /// The legend of the status characters of a `dim`-dimensional problem.
-pub(crate) fn status_legend(dim: usize) -> &'static str {
+pub fn status_legend(dim: usize) -> &'static str {
     if dim == 3 {
         STATUS_LEGEND_3D
     } else {
@@ -51,7 +51,7 @@ pub(crate) fn status_legend(dim: usize) -> &'static str {
     }
 }
 
-pub(crate) fn pattern_code(p: ContactPattern) -> char {
+pub fn pattern_code(p: ContactPattern) -> char {
     match p {
         ContactPattern::Contact => 'C',
         ContactPattern::Separated => 'o',
@@ -60,7 +60,7 @@ pub(crate) fn pattern_code(p: ContactPattern) -> char {
 }
 
 /// One character per node, a space after every ten.
-pub(crate) fn codes(chars: impl Iterator<Item = char>) -> String {
+pub fn codes(chars: impl Iterator<Item = char>) -> String {
     let mut s = String::new();
     for (i, c) in chars.enumerate() {
         if i > 0 && i % 10 == 0 {
@@ -72,11 +72,11 @@ pub(crate) fn codes(chars: impl Iterator<Item = char>) -> String {
 }
 
 /// Lines of the diagnostics are wrapped at this width.
-pub(crate) const WRAP: usize = 100;
+pub const WRAP: usize = 100;
 
 /// Writes `text` as lines of at most [`WRAP`] characters (words are not split), the first
 /// indented by `first`, the others by `rest` spaces.
-pub(crate) fn wrapped(out: &mut String, first: usize, rest: usize, text: &str) {
+pub fn wrapped(out: &mut String, first: usize, rest: usize, text: &str) {
     let mut line = " ".repeat(first);
     let mut empty = true;
     for word in text.split_whitespace() {
@@ -96,7 +96,7 @@ pub(crate) fn wrapped(out: &mut String, first: usize, rest: usize, text: &str) {
     out.push('\n');
 }
 
-pub(crate) fn plural(n: usize, one: &str, many: &str) -> String {
+pub fn plural(n: usize, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })
 }
 
@@ -538,7 +538,7 @@ fn more(out: &mut String, total: usize, what: &str) {
 
 /// Increasing indices with runs of three or more shortened: `0-3 7 9 10`.
 /// A contact set (one flag per node) as text: "no node", "node 3", "nodes 1-4, 7".
-pub(crate) fn contact_set(contact: &[bool]) -> String {
+pub fn contact_set(contact: &[bool]) -> String {
     let nodes: Vec<usize> = (0..contact.len())
         .filter(|&i| contact[i])
         .map(|i| i + 1)
@@ -550,7 +550,7 @@ pub(crate) fn contact_set(contact: &[bool]) -> String {
     }
 }
 
-pub(crate) fn ranges(indices: &[usize]) -> String {
+pub fn ranges(indices: &[usize]) -> String {
     let mut parts = Vec::new();
     let mut i = 0;
     while i < indices.len() {
@@ -570,7 +570,7 @@ pub(crate) fn ranges(indices: &[usize]) -> String {
     parts.join(" ")
 }
 
-pub(crate) fn seconds_text(s: f64) -> String {
+pub fn seconds_text(s: f64) -> String {
     if s >= 1.0 {
         format!("{s:.2} s")
     } else if s >= 1e-3 {

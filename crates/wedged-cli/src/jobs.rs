@@ -1,0 +1,419 @@
+//! A run of `enumerate` or `critical` as the command and the Python package (`wedged-py`)
+//! both make it: the options checked and turned into the library's settings, the run with its
+//! progress line and its cancel flag, its errors sorted into bad input and internal failures.
+//! Both fronts call these, so that the same options give the same answer and the same message.
+
+use std::fmt;
+use std::io::{self, IsTerminal};
+use std::process::ExitCode;
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
+
+use clap::builder::PossibleValue;
+use clap::ValueEnum;
+use wedged::patterns::{
+    enumerate_patterns_with_control, PatternMethod, PatternSettings, DEFAULT_PYRAMID_FACES,
+};
+use wedged::{
+    critical_with_control, enumerate_with_control, Critical, CriticalMethod, CriticalProgress,
+    CriticalSettings, EnumerateError, Limits, Method, Problem, Progress, Settings,
+};
+
+use crate::report::answer::{Answer, Choice};
+
+/// Why a run failed; decides the exit code.
+#[derive(Debug)]
+pub enum Failure {
+    /// Bad input or usage: exit code 2.
+    Input(String),
+    /// A failure of the program itself: exit code 1.
+    Internal(String),
+    /// The run stopped at a limit or on Ctrl-C; its results were written, marked incomplete:
+    /// exit code 3.
+    Incomplete(String),
+}
+
+impl Failure {
+    pub fn exit_code(&self) -> ExitCode {
+        match self {
+            Failure::Input(_) => ExitCode::from(2),
+            Failure::Internal(_) => ExitCode::from(1),
+            Failure::Incomplete(_) => ExitCode::from(3),
+        }
+    }
+}
+
+impl fmt::Display for Failure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Failure::Input(m) | Failure::Internal(m) | Failure::Incomplete(m) => f.write_str(m),
+        }
+    }
+}
+
+/// The limits of `--time-limit`.
+pub fn time_limits(time_limit: Option<f64>) -> Result<Limits, Failure> {
+    let mut limits = Limits::default();
+    if let Some(t) = time_limit {
+        if !(t.is_finite() && t >= 0.0) {
+            return Err(Failure::Input(format!(
+                "--time-limit must be a finite number of seconds >= 0, got {t}"
+            )));
+        }
+        limits.time_limit = Some(Duration::from_secs_f64(t));
+    }
+    Ok(limits)
+}
+
+/// When the live progress line is drawn on stderr.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Show {
+    /// Only for a person at a terminal (stderr is one), once the run has lasted a second:
+    /// pipes, files and CI logs stay clean. The command's choice.
+    Terminal,
+    /// Whatever stderr is, once the run has lasted a second (Python's `progress=True`).
+    Always,
+    /// Never.
+    Never,
+}
+
+impl Show {
+    fn live(self) -> bool {
+        match self {
+            Show::Terminal => io::stderr().is_terminal(),
+            Show::Always => true,
+            Show::Never => false,
+        }
+    }
+}
+
+/// The options of `wedged enumerate` that choose and tune the method.
+#[derive(Debug, Clone, Default)]
+pub struct EnumerateOptions {
+    /// `--method` (none: pruned-dd in 2D, bnb in 3D; exact with `exact`).
+    pub method: Option<MethodArg>,
+    /// `--pyramid-faces`.
+    pub pyramid_faces: Option<i64>,
+    /// `--zero-tol`.
+    pub zero_tol: Option<f64>,
+    /// `--time-limit`, seconds.
+    pub time_limit: Option<f64>,
+    /// `--max-rays`.
+    pub max_rays: Option<usize>,
+    /// `--max-memory`, bytes.
+    pub max_memory: Option<u64>,
+    /// `--certify`.
+    pub certify: bool,
+    /// `--exact`.
+    pub exact: bool,
+}
+
+/// The method and settings that `options` ask for on `problem` (`source` names the problem in
+/// messages), or why they cannot run.
+pub fn plan_enumerate(
+    problem: &Problem,
+    source: &str,
+    options: &EnumerateOptions,
+) -> Result<Choice, Failure> {
+    let faces = match options.pyramid_faces {
+        None => None,
+        Some(k) if (3..=64).contains(&k) => Some(k as usize),
+        Some(k) => {
+            return Err(Failure::Input(format!(
+                "--pyramid-faces must be from 3 to 64, got {k}"
+            )))
+        }
+    };
+    let mut limits = time_limits(options.time_limit)?;
+    limits.max_rays = options.max_rays;
+    limits.max_memory = options.max_memory;
+    if options.exact {
+        if let Some(other) = options
+            .method
+            .filter(|&m| m != MethodArg::Rays(Method::Exact))
+        {
+            return Err(Failure::Input(format!(
+                "--exact runs the exact 2D ray enumeration (--method exact); it cannot be \
+                 combined with --method {}",
+                other.name()
+            )));
+        }
+        if problem.dim() != 2 {
+            return Err(Failure::Input(format!(
+                "{source}: dim = {}: --exact enumerates the rays of a 2D problem; a 3D problem \
+                 has sign patterns instead (--method bnb or pyramid)",
+                problem.dim()
+            )));
+        }
+    }
+    let method = match options.method {
+        Some(m) => m,
+        None if options.exact => MethodArg::Rays(Method::Exact),
+        None if problem.dim() == 2 => MethodArg::Rays(Method::PrunedDd),
+        None => MethodArg::Patterns(PatternMethod::Bnb),
+    };
+    if faces.is_some() && !matches!(method, MethodArg::Patterns(PatternMethod::Pyramid { .. })) {
+        return Err(Failure::Input(format!(
+            "--pyramid-faces is used by --method pyramid only, and the method is {}",
+            method.name()
+        )));
+    }
+    let mut choice = match method {
+        MethodArg::Rays(m) if problem.dim() != 2 => {
+            return Err(Failure::Input(format!(
+                "{source}: dim = {}: --method {} lists rays, which only a 2D problem has; use \
+                 --method bnb (the default in 3D) or --method pyramid",
+                problem.dim(),
+                m.name()
+            )))
+        }
+        MethodArg::Rays(method) => Choice::Rays(Settings {
+            method,
+            limits,
+            ..Settings::default()
+        }),
+        MethodArg::Patterns(PatternMethod::Pyramid { .. }) => Choice::Patterns(PatternSettings {
+            method: PatternMethod::Pyramid {
+                faces: faces.unwrap_or(DEFAULT_PYRAMID_FACES),
+            },
+            limits,
+            certify: options.certify,
+            ..PatternSettings::default()
+        }),
+        MethodArg::Patterns(method) => Choice::Patterns(PatternSettings {
+            method,
+            limits,
+            certify: options.certify,
+            ..PatternSettings::default()
+        }),
+    };
+    if let Some(t) = options.zero_tol {
+        match &mut choice {
+            Choice::Rays(s) => s.zero_tol = t,
+            Choice::Patterns(s) => s.zero_tol = t,
+        }
+    }
+    Ok(choice)
+}
+
+/// Runs the enumeration and sorts its errors into bad input and internal failures.
+/// `cancel` stops the run (it then returns what it found, marked incomplete); `show` says when
+/// the live progress line is drawn.
+pub fn run_library(
+    problem: &Problem,
+    choice: &Choice,
+    source: &str,
+    cancel: &AtomicBool,
+    show: Show,
+) -> Result<Answer, Failure> {
+    let start = std::time::Instant::now();
+    let live = show.live();
+    let shown = std::cell::Cell::new(false);
+    let progress = |p: Progress| {
+        if live && start.elapsed().as_secs_f64() > 1.0 {
+            eprint!(
+                "\r  {}   ",
+                progress_text(choice, p, start.elapsed().as_secs_f64())
+            );
+            shown.set(true);
+        }
+    };
+    let result = match choice {
+        Choice::Rays(settings) => {
+            enumerate_with_control(problem, settings, &progress, cancel).map(Answer::Rays)
+        }
+        Choice::Patterns(settings) => {
+            enumerate_patterns_with_control(problem, settings, &progress, cancel)
+                .map(Answer::Patterns)
+        }
+    };
+    if shown.get() {
+        eprintln!();
+    }
+    result.map_err(|e| match e {
+        EnumerateError::UnsupportedDim(d) => Failure::Input(format!(
+            "{source}: dim = {d}: --method {} needs a 2D problem; use --method bnb or pyramid",
+            choice.name()
+        )),
+        EnumerateError::InvalidSettings(m) => Failure::Input(format!("invalid option: {m}")),
+        e @ EnumerateError::Internal(_) => Failure::Internal(format!("{source}: {e}")),
+    })
+}
+
+/// The live progress line (without its carriage return).
+pub fn progress_text(choice: &Choice, p: Progress, seconds: f64) -> String {
+    match choice {
+        Choice::Patterns(PatternSettings {
+            method: PatternMethod::Bnb,
+            ..
+        }) => format!(
+            "explored {:.1}% of the search tree, {} found, {seconds:.1} s",
+            100.0 * p.done as f64 / p.total.max(1) as f64,
+            if p.rays == 1 {
+                "1 pattern".to_string()
+            } else {
+                format!("{} patterns", p.rays)
+            }
+        ),
+        Choice::Patterns(_) => format!(
+            "pyramid approximation, node {}/{}: {} rays held, {seconds:.1} s",
+            p.done, p.total, p.rays
+        ),
+        Choice::Rays(_) => format!(
+            "node {}/{}: {} rays held, {seconds:.1} s",
+            p.done, p.total, p.rays
+        ),
+    }
+}
+
+/// The test hook `WEDGED_INJECT_FAULT` (see `wedged::Fault`): tests set it to see an internal
+/// failure exit 1. An unknown name is an input error, so that a typo cannot pass unnoticed.
+pub fn injected_fault() -> Result<Option<wedged::Fault>, Failure> {
+    match std::env::var("WEDGED_INJECT_FAULT") {
+        Err(_) => Ok(None),
+        Ok(name) => wedged::Fault::parse(&name).map(Some).ok_or_else(|| {
+            Failure::Input(format!(
+                "WEDGED_INJECT_FAULT={name:?} is not a known fault (corrupt-witness)"
+            ))
+        }),
+    }
+}
+
+/// Runs the computation of `mu*` with the live progress line and sorts its errors into bad input
+/// and internal failures; `cancel` and `show` as in [`run_library`].
+pub fn run_critical_library(
+    problem: &Problem,
+    settings: &CriticalSettings,
+    source: &str,
+    cancel: &AtomicBool,
+    show: Show,
+) -> Result<Critical, Failure> {
+    let start = std::time::Instant::now();
+    let live = show.live();
+    let shown = std::cell::Cell::new(false);
+    let progress = |p: CriticalProgress| {
+        if live && start.elapsed().as_secs_f64() > 1.0 {
+            eprint!(
+                "\r  {}   ",
+                critical_progress_text(p, start.elapsed().as_secs_f64())
+            );
+            shown.set(true);
+        }
+    };
+    let result = critical_with_control(problem, settings, &progress, cancel);
+    if shown.get() {
+        eprintln!();
+    }
+    result.map_err(|e| match e {
+        EnumerateError::InvalidSettings(m) => Failure::Input(format!("invalid option: {m}")),
+        e @ EnumerateError::UnsupportedDim(_) => Failure::Input(format!("{source}: {e}")),
+        e @ EnumerateError::Internal(_) => Failure::Internal(format!("{source}: {e}")),
+    })
+}
+
+/// The live progress line of `critical` and `sweep` (without its carriage return).
+pub fn critical_progress_text(p: CriticalProgress, seconds: f64) -> String {
+    let best = match p.upper {
+        Some(mu) => format!("best mu {}", crate::report::sig4(mu)),
+        None => "no wedged configuration yet".to_string(),
+    };
+    format!(
+        "explored {:.1}%, {best}, {seconds:.1} s",
+        100.0 * p.explored.clamp(0.0, 1.0)
+    )
+}
+
+/// A ray [`Method`] or a [`PatternMethod`] as a command-line value, named by their `name()`.
+/// The pyramid's number of faces comes from `--pyramid-faces`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MethodArg {
+    Rays(Method),
+    Patterns(PatternMethod),
+}
+
+impl MethodArg {
+    pub fn name(self) -> &'static str {
+        match self {
+            MethodArg::Rays(m) => m.name(),
+            MethodArg::Patterns(m) => m.name(),
+        }
+    }
+}
+
+impl ValueEnum for MethodArg {
+    fn value_variants<'a>() -> &'a [Self] {
+        &[
+            MethodArg::Rays(Method::PrunedDd),
+            MethodArg::Rays(Method::FullDd),
+            MethodArg::Rays(Method::Faces),
+            MethodArg::Rays(Method::Exact),
+            MethodArg::Rays(Method::Search),
+            MethodArg::Patterns(PatternMethod::Bnb),
+            MethodArg::Patterns(PatternMethod::Pyramid {
+                faces: DEFAULT_PYRAMID_FACES,
+            }),
+            MethodArg::Patterns(PatternMethod::Faces),
+            MethodArg::Patterns(PatternMethod::Search),
+        ]
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        let help = match self {
+            MethodArg::Rays(Method::PrunedDd) => "2D rays: the seed's pruned double description",
+            MethodArg::Rays(Method::FullDd) => {
+                "2D rays: every extreme ray by double description, then a filter"
+            }
+            MethodArg::Rays(Method::Faces) => {
+                "2D rays: brute force over the 2^m contact sets (small m only)"
+            }
+            MethodArg::Rays(Method::Exact) => {
+                "2D rays: double description in exact rational arithmetic (as --exact)"
+            }
+            MethodArg::Rays(Method::Search) => {
+                "2D rays: depth-first search over contact sets (warm-started simplex), then the \
+                 rays of each face in its own dimension"
+            }
+            MethodArg::Patterns(PatternMethod::Bnb) => {
+                "patterns (2D, 3D): branch and bound with conic relaxations"
+            }
+            MethodArg::Patterns(PatternMethod::Pyramid { .. }) => {
+                "patterns (2D, 3D): the 2D algorithm on a pyramid around the friction cone, \
+                 candidates checked exactly"
+            }
+            MethodArg::Patterns(PatternMethod::Faces) => {
+                "patterns (2D, 3D): brute force over the 2^m contact sets (m <= 12)"
+            }
+            MethodArg::Patterns(PatternMethod::Search) => {
+                "patterns (2D): depth-first search over contact sets (warm-started simplex), \
+                 no rays; for large meshes"
+            }
+        };
+        Some(PossibleValue::new(self.name()).help(help))
+    }
+}
+
+/// A [`CriticalMethod`] as a command-line value, named by its `name()`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CriticalMethodArg(pub CriticalMethod);
+
+impl ValueEnum for CriticalMethodArg {
+    fn value_variants<'a>() -> &'a [Self] {
+        &[
+            CriticalMethodArg(CriticalMethod::Bnb),
+            CriticalMethodArg(CriticalMethod::Enumerate),
+            CriticalMethodArg(CriticalMethod::Faces),
+        ]
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        let help = match self.0 {
+            CriticalMethod::Bnb => "branch and bound over contact sets with an incumbent",
+            CriticalMethod::Enumerate => {
+                "the maximal patterns at a large mu, then each one's threshold (as `sweep`)"
+            }
+            CriticalMethod::Faces => "every contact set, each threshold by bisection (m <= 12)",
+        };
+        Some(PossibleValue::new(self.0.name()).help(help))
+    }
+}
+
