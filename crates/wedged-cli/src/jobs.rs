@@ -19,7 +19,10 @@ use wedged::{
     CriticalSettings, EnumerateError, Limits, Method, Problem, Progress, Settings,
 };
 
-use crate::report::answer::{Answer, Choice};
+use wedged::certify::certify_enumeration;
+use wedged::fe::Model;
+
+use crate::report::answer::{Answer, Certified, Choice};
 
 /// Why a run failed; decides the exit code.
 #[derive(Debug)]
@@ -196,6 +199,71 @@ pub fn plan_enumerate(
     Ok(choice)
 }
 
+/// A finished enumeration and, with `--certify` on a ray method, its exact certificate (a
+/// pattern method's is part of its answer).
+pub struct Enumerated {
+    pub answer: Answer,
+    rays_certificate: Option<wedged::certify::Certificate>,
+}
+
+impl Enumerated {
+    /// The exact certificate of the run, when `--certify` asked for one.
+    pub fn certificate(&self) -> Option<Certified<'_>> {
+        match &self.answer {
+            Answer::Rays(_) => self.rays_certificate.as_ref().map(Certified::Rays),
+            Answer::Patterns(p) => p.certificate.as_ref().map(Certified::Patterns),
+        }
+    }
+
+    /// The JSON document of `--json`.
+    pub fn json(&self, problem: &Problem, choice: &Choice, model: Option<&Model>) -> String {
+        crate::report::json::to_json(
+            problem,
+            choice,
+            &self.answer,
+            model,
+            self.certificate().as_ref(),
+        )
+    }
+
+    /// The internal failure that a failed exact certification is (the answer cannot be
+    /// trusted), `None` when it passed or was not asked for.
+    pub fn certification_failure(&self, source: &str) -> Option<Failure> {
+        let c = self.certificate().filter(|c| !c.certified())?;
+        let failures = c.failures();
+        Some(Failure::Internal(format!(
+            "{source}: exact certification failed ({}; first: {}): the floating-point answer \
+             cannot be trusted",
+            match failures.len() {
+                1 => "1 check".to_string(),
+                n => format!("{n} checks"),
+            },
+            failures.first().map_or("", String::as_str)
+        )))
+    }
+}
+
+/// Runs the enumeration ([`run_library`]) and, when `certify` is set and the method lists
+/// rays, certifies its answer in exact arithmetic.
+pub fn enumerate(
+    problem: &Problem,
+    choice: &Choice,
+    source: &str,
+    certify: bool,
+    cancel: &AtomicBool,
+    show: Show,
+) -> Result<Enumerated, Failure> {
+    let answer = run_library(problem, choice, source, cancel, show)?;
+    let rays_certificate = match (&answer, certify) {
+        (Answer::Rays(result), true) => Some(certify_enumeration(problem, result)),
+        _ => None,
+    };
+    Ok(Enumerated {
+        answer,
+        rays_certificate,
+    })
+}
+
 /// Runs the enumeration and sorts its errors into bad input and internal failures.
 /// `cancel` stops the run (it then returns what it found, marked incomplete); `show` says when
 /// the live progress line is drawn.
@@ -279,6 +347,52 @@ pub fn injected_fault() -> Result<Option<wedged::Fault>, Failure> {
     }
 }
 
+/// The options of `wedged critical` that choose and tune the method.
+#[derive(Debug, Clone, Default)]
+pub struct CriticalOptions {
+    /// `--method` (none: bnb).
+    pub method: Option<CriticalMethod>,
+    /// `--tol` (none: [`wedged::critical::DEFAULT_TOL`]; the library checks its range).
+    pub tol: Option<f64>,
+    /// `--time-limit`, seconds.
+    pub time_limit: Option<f64>,
+    /// `--certify`.
+    pub certify: bool,
+}
+
+/// The settings that `options` ask for, or why they cannot run.
+pub fn plan_critical(options: &CriticalOptions) -> Result<CriticalSettings, Failure> {
+    let method = options.method.unwrap_or(CriticalMethod::Bnb);
+    if options.certify && method == CriticalMethod::Enumerate {
+        return Err(Failure::Input(
+            "--certify needs --method bnb or faces: the enumerate method's lower end rests on \
+             a floating-point enumeration of patterns, which is not certified"
+                .to_string(),
+        ));
+    }
+    Ok(CriticalSettings {
+        method,
+        tol: options.tol.unwrap_or(wedged::critical::DEFAULT_TOL),
+        limits: time_limits(options.time_limit)?,
+        certify: options.certify,
+        fault: injected_fault()?,
+    })
+}
+
+/// The internal failure that a failed exact certification of `mu*` is, `None` when it passed
+/// or was not asked for.
+pub fn critical_certification_failure(source: &str, result: &Critical) -> Option<Failure> {
+    let c = result.certificate.as_ref().filter(|c| !c.certified)?;
+    Some(Failure::Internal(format!(
+        "{source}: exact certification of mu* failed ({}; first: {})",
+        match c.failures.len() {
+            1 => "1 check".to_string(),
+            n => format!("{n} checks"),
+        },
+        c.failures.first().map_or("", String::as_str)
+    )))
+}
+
 /// Runs the computation of `mu*` with the live progress line and sorts its errors into bad input
 /// and internal failures; `cancel` and `show` as in [`run_library`].
 pub fn run_critical_library(
@@ -332,6 +446,14 @@ pub enum MethodArg {
 }
 
 impl MethodArg {
+    /// The method of this name (`pruned-dd`, `bnb`, ...), as `--method` takes it.
+    pub fn named(name: &str) -> Option<MethodArg> {
+        MethodArg::value_variants()
+            .iter()
+            .copied()
+            .find(|m| m.name() == name)
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             MethodArg::Rays(m) => m.name(),
@@ -396,6 +518,16 @@ impl ValueEnum for MethodArg {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CriticalMethodArg(pub CriticalMethod);
 
+impl CriticalMethodArg {
+    /// The method of this name (`bnb`, `enumerate`, `faces`), as `--method` takes it.
+    pub fn named(name: &str) -> Option<CriticalMethod> {
+        CriticalMethodArg::value_variants()
+            .iter()
+            .map(|m| m.0)
+            .find(|m| m.name() == name)
+    }
+}
+
 impl ValueEnum for CriticalMethodArg {
     fn value_variants<'a>() -> &'a [Self] {
         &[
@@ -416,4 +548,3 @@ impl ValueEnum for CriticalMethodArg {
         Some(PossibleValue::new(self.0.name()).help(help))
     }
 }
-

@@ -12,7 +12,9 @@ use crate::draw::sweep_svg;
 use crate::report::files::{JsonTarget, PendingFile};
 use crate::report::{self, summary};
 use wedged_cli::input::problem_file;
-use wedged_cli::jobs::{injected_fault, run_critical_library};
+use wedged_cli::jobs::{
+    critical_certification_failure, plan_critical, run_critical_library, CriticalOptions,
+};
 
 /// What `critical` and `sweep` read and where they write.
 pub(crate) struct CriticalJob<'a> {
@@ -25,7 +27,8 @@ pub(crate) struct CriticalJob<'a> {
     svg: Option<&'a Path>,
 }
 
-/// Loads the problem of `critical` or `sweep` and checks the options (the library checks --tol).
+/// Checks the options (the library checks --tol) and loads the problem of `critical` or
+/// `sweep`.
 pub(crate) fn critical_job<'a>(
     problem: &Path,
     method: CriticalMethod,
@@ -34,20 +37,19 @@ pub(crate) fn critical_job<'a>(
     json: Option<&'a Path>,
     svg: Option<&'a Path>,
 ) -> Result<CriticalJob<'a>, Failure> {
-    let limits = time_limits(common.time_limit)?;
+    let settings = plan_critical(&CriticalOptions {
+        method: Some(method),
+        tol: common.tol,
+        time_limit: common.time_limit,
+        certify,
+    })?;
     let (loaded, mu_given) =
         problem_file::load_for_critical(problem).map_err(|e| Failure::Input(e.to_string()))?;
     Ok(CriticalJob {
         file_mu: mu_given.then(|| loaded.problem.mu()),
         problem: loaded.problem,
         model: loaded.model,
-        settings: CriticalSettings {
-            method,
-            tol: common.tol.unwrap_or(wedged::critical::DEFAULT_TOL),
-            limits,
-            certify,
-            fault: injected_fault()?,
-        },
+        settings,
         source: problem.display().to_string(),
         json,
         svg,
@@ -55,17 +57,9 @@ pub(crate) fn critical_job<'a>(
 }
 
 pub(crate) fn run_critical(args: CriticalArgs) -> Result<(), Failure> {
-    let method = args.method.map_or(CriticalMethod::Bnb, |m| m.0);
-    if args.certify && method == CriticalMethod::Enumerate {
-        return Err(Failure::Input(
-            "--certify needs --method bnb or faces: the enumerate method's lower end rests on \
-             a floating-point enumeration of patterns, which is not certified"
-                .to_string(),
-        ));
-    }
     let job = critical_job(
         &args.problem,
-        method,
+        args.method.map_or(CriticalMethod::Bnb, |m| m.0),
         args.certify,
         &args.common,
         args.json.json.as_deref(),
@@ -159,15 +153,8 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
             .map_err(|e| Failure::Input(e.to_string()))?;
     }
     write_stdout(&stdout_text)?;
-    if let Some(c) = result.certificate.as_ref().filter(|c| !c.certified) {
-        return Err(Failure::Internal(format!(
-            "{source}: exact certification of mu* failed ({}; first: {})",
-            match c.failures.len() {
-                1 => "1 check".to_string(),
-                n => format!("{n} checks"),
-            },
-            c.failures.first().map_or("", String::as_str)
-        )));
+    if let Some(failure) = critical_certification_failure(&source, &result) {
+        return Err(failure);
     }
     match incomplete {
         Some(stop) => Err(Failure::Incomplete(critical_incomplete_text(
@@ -196,4 +183,3 @@ pub(crate) fn critical_incomplete_text(source: &str, result: &Critical, stop: St
         format!("{source}: {stop}; {found}; the result is incomplete")
     }
 }
-

@@ -3,7 +3,6 @@
 
 use std::path::Path;
 
-use wedged::certify::certify_enumeration;
 use wedged::fe::Model;
 use wedged::{Problem, Stop};
 
@@ -12,10 +11,9 @@ use crate::args::*;
 use crate::draw::export;
 use crate::report::answer::{Answer, Choice};
 use crate::report::files::JsonTarget;
-use crate::report::json;
 use crate::report::summary;
 use wedged_cli::input::problem_file;
-use wedged_cli::jobs::{plan_enumerate, run_library, EnumerateOptions};
+use wedged_cli::jobs::{enumerate, plan_enumerate, EnumerateOptions};
 
 pub(crate) fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
     let source = args.problem.display().to_string();
@@ -101,27 +99,21 @@ pub(crate) fn report(
     if let Some(dir) = svg {
         export::prepare_dir(dir, "--svg", "svg").map_err(Failure::Input)?;
     }
-    let answer = run_library(problem, choice, source, &INTERRUPTED, Show::Terminal)?;
-    let rays_certificate = match (&answer, certify) {
-        (Answer::Rays(result), true) => Some(certify_enumeration(problem, result)),
-        _ => None,
-    };
-    let certificate = match &answer {
-        Answer::Rays(_) => rays_certificate
-            .as_ref()
-            .map(crate::report::answer::Certified::Rays),
-        Answer::Patterns(p) => p
-            .certificate
-            .as_ref()
-            .map(crate::report::answer::Certified::Patterns),
-    };
-    let json_text = json
-        .as_ref()
-        .map(|_| json::to_json(problem, choice, &answer, model, certificate.as_ref()));
+    let run = enumerate(
+        problem,
+        choice,
+        source,
+        certify,
+        &INTERRUPTED,
+        Show::Terminal,
+    )?;
+    let answer = &run.answer;
+    let certificate = run.certificate();
+    let json_text = json.as_ref().map(|_| run.json(problem, choice, model));
     let incomplete = answer.stopped();
     let written = match model {
         Some(model) if (vtk.is_some() || svg.is_some()) && incomplete.is_none() => {
-            export::write_pieces(model, problem, &answer, vtk, svg).map_err(Failure::Input)?
+            export::write_pieces(model, problem, answer, vtk, svg).map_err(Failure::Input)?
         }
         _ => Vec::new(),
     };
@@ -140,13 +132,11 @@ pub(crate) fn report(
             if let Some(model) = model {
                 stdout_text.push_str(&summary::model(source, model));
             }
-            stdout_text.push_str(&summary::render(
-                problem, choice, source, &answer, json_path,
-            ));
+            stdout_text.push_str(&summary::render(problem, choice, source, answer, json_path));
             if let Some(c) = &certificate {
                 stdout_text.push_str(&summary::certification(c));
             }
-            stdout_text.push_str(&summary::files(&answer, vtk, svg, &written));
+            stdout_text.push_str(&summary::files(answer, vtk, svg, &written));
         }
     }
     if let (Some(target @ JsonTarget::File { .. }), Some(text)) = (json, &json_text) {
@@ -155,21 +145,12 @@ pub(crate) fn report(
             .map_err(|e| Failure::Input(e.to_string()))?;
     }
     write_stdout(&stdout_text)?;
-    if let Some(c) = certificate.as_ref().filter(|c| !c.certified()) {
-        let failures = c.failures();
-        return Err(Failure::Internal(format!(
-            "{source}: exact certification failed ({}; first: {}): the floating-point answer \
-             cannot be trusted",
-            match failures.len() {
-                1 => "1 check".to_string(),
-                n => format!("{n} checks"),
-            },
-            failures.first().map_or("", String::as_str)
-        )));
+    if let Some(failure) = run.certification_failure(source) {
+        return Err(failure);
     }
     match incomplete {
         Some(stop) => Err(Failure::Incomplete(incomplete_text(
-            source, problem, &answer, stop,
+            source, problem, answer, stop,
         ))),
         None => Ok(()),
     }
@@ -202,4 +183,3 @@ pub(crate) fn incomplete_text(
         ),
     }
 }
-

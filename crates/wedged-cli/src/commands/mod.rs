@@ -15,7 +15,7 @@ use enumerate::*;
 use std::io::{self, Write};
 use std::sync::atomic::AtomicBool;
 
-pub(crate) use wedged_cli::jobs::{time_limits, Failure, Show};
+pub(crate) use wedged_cli::jobs::{Failure, Show};
 
 use crate::args::*;
 

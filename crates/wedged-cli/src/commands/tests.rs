@@ -3,9 +3,9 @@
 use super::*;
 use crate::report::answer::{Answer, Choice};
 use clap::{CommandFactory, ValueEnum};
+use std::time::Duration;
 use wedged::patterns::{PatternMethod, PatternSettings};
 use wedged::{CriticalProgress, Method, Problem, Progress, Settings, Stop};
-use std::time::Duration;
 use wedged_cli::jobs::{critical_progress_text, progress_text};
 use wedged_cli::one_line;
 
