@@ -1,0 +1,376 @@
+"""Every wedged configuration of an elastic body in frictional contact with a rigid obstacle.
+
+The wedged problem (WP), for the stiffness ``K`` condensed onto ``m`` contact nodes (local
+frames, normal first: ``(n, t)`` per node in 2D, ``(n, t1, t2)`` in 3D) and the friction
+coefficient ``mu``::
+
+    K u = r,   u_n >= 0,  r_n >= 0,  u_n r_n = 0,   |r_t| <= mu r_n   (and stick or slip)
+
+Its solutions ``(u, r) != 0`` are the states that friction alone holds, like a cork in a
+bottle. :func:`enumerate` lists all of them (2D: the complementary extreme rays and the
+convex cones they span; 2D or 3D: the maximal sign patterns, each with a witness);
+:func:`critical` gives ``mu*``, the least ``mu`` at which a nonzero solution exists, with a
+certified bracket. :func:`load` reads the command's problem files (a condensed stiffness or a
+meshed body).
+
+Results equal the command's (``wedged enumerate ... --json``, ``wedged critical ... --json``)
+number for number: the same library run, the same JSON document (``to_json()``). Vectors are
+normalised to ``sum r_n = 1``.
+
+Errors: bad input raises :class:`InputError` (a ``ValueError``) with the command's one-line
+message; a failed internal check raises :class:`InternalError` (a ``RuntimeError``). Long
+calls release the GIL and stop on Ctrl-C with ``KeyboardInterrupt``.
+"""
+
+from __future__ import annotations
+
+import json as _json
+from dataclasses import dataclass, field
+from typing import Any, List, Optional
+
+import numpy as np
+
+from . import _wedged
+from ._wedged import InputError, InternalError, __version__
+
+__all__ = [
+    "Cone",
+    "Critical",
+    "Enumeration",
+    "InputError",
+    "InternalError",
+    "Pattern",
+    "Problem",
+    "Ray",
+    "__version__",
+    "critical",
+    "enumerate",
+    "load",
+]
+
+
+@dataclass(frozen=True)
+class Ray:
+    """A complementary extreme ray (2D ray methods): ``K u = r`` with ``sum r_n = 1``.
+
+    ``status[i]`` is node ``i``'s: ``separated``, ``stick``, ``slip+``, ``slip-`` or
+    ``grazing``.
+    """
+
+    u: np.ndarray
+    r: np.ndarray
+    status: List[str]
+
+
+@dataclass(frozen=True)
+class Cone:
+    """A maximal cone of wedged configurations (2D ray methods): every nonnegative
+    combination of its ``rays`` (indices into :attr:`Enumeration.rays`) solves WP.
+
+    ``status[i]``: ``contact``, ``separated`` or ``grazing``.
+    """
+
+    rays: List[int]
+    status: List[str]
+
+
+@dataclass(frozen=True)
+class Pattern:
+    """A convex piece of the solution set: its contact ``pattern`` (``contact``,
+    ``separated``, ``grazing`` per node), its sign pattern ``status`` (``separated``,
+    ``stick``, ``slip``, ``slip+``, ``slip-``, ``grazing``) and a witness ``(u, r)`` in it.
+
+    With a ray method, pattern ``N`` is cone ``N`` and its witness the cone's centroid
+    (``margin`` None); with a pattern method the witness lies inside its piece, ``margin`` its
+    smallest positive entry.
+    """
+
+    pattern: List[str]
+    status: List[str]
+    u: np.ndarray
+    r: np.ndarray
+    margin: Optional[float]
+
+
+def _vector(values: Any) -> np.ndarray:
+    return np.asarray(values, dtype=np.float64)
+
+
+@dataclass(frozen=True)
+class Enumeration:
+    """The result of :func:`enumerate`: every wedged configuration at ``mu``.
+
+    ``complete`` is False when the run stopped early (``time_limit``) or left contact sets
+    undecided; ``stopped`` then says why. ``rays`` and ``cones`` (2D ray methods) or
+    ``patterns`` (every method) hold the answer; ``info`` the run's counters.
+    """
+
+    complete: bool
+    outcome: str
+    method: str
+    mu: float
+    dim: int
+    nodes: int
+    stopped: Optional[str]
+    certified: Optional[bool]
+    rays: List[Ray]
+    cones: List[Cone]
+    patterns: List[Pattern]
+    info: dict
+    _json: str = field(repr=False)
+    _problem: Any = field(repr=False, default=None)
+
+    @classmethod
+    def _from_json(cls, text: str, problem: Any = None) -> "Enumeration":
+        doc = _json.loads(text)
+        return cls(
+            complete=doc["complete"],
+            outcome=doc["outcome"],
+            method=doc["method"],
+            mu=doc["mu"],
+            dim=doc["dim"],
+            nodes=doc["nodes"],
+            stopped=doc["stopped"],
+            certified=doc["certified"],
+            rays=[Ray(_vector(x["u"]), _vector(x["r"]), list(x["status"])) for x in doc["rays"]],
+            cones=[Cone(list(x["rays"]), list(x["status"])) for x in doc["cones"]],
+            patterns=[
+                Pattern(
+                    list(x["pattern"]),
+                    list(x["status"]),
+                    _vector(x["u"]),
+                    _vector(x["r"]),
+                    x["margin"],
+                )
+                for x in doc["patterns"]
+            ],
+            info=doc["info"],
+            _json=text,
+            _problem=problem,
+        )
+
+    def to_json(self) -> str:
+        """The JSON document of ``wedged enumerate --json`` for the same run."""
+        return self._json
+
+    def to_meshio(self, i: int):
+        """Piece ``i`` (``patterns[i]``, the files ``cone-N``/``pattern-N`` of the command,
+        0-based) of a meshed body as a ``meshio.Mesh``: point data ``displacement`` and
+        ``reaction`` (the nodal force, nonzero at the contact nodes), cell data ``stress``
+        and ``von_mises``. Needs meshio and a problem from :func:`load` with a ``[mesh]``."""
+        if self._problem is None:
+            raise InputError("to_meshio needs a meshed body: wedged.load(FILE) with [mesh]")
+        return self._problem._to_meshio(self.patterns[i].u)
+
+
+@dataclass(frozen=True)
+class Critical:
+    """The result of :func:`critical`: the critical friction coefficient ``mu*``.
+
+    ``status``: ``wedged`` (``mu*`` in ``[lower, upper]``, ``mu`` = ``upper``, ``(u, r)`` a
+    checked solution of WP at ``upper``), ``never`` (no ``mu`` wedges the body: ``mu``,
+    ``lower``, ``upper``, ``u``, ``r`` are None) or ``incomplete`` (``complete`` False:
+    ``upper`` and the witness may be there, nothing is certified from below).
+    """
+
+    status: str
+    complete: bool
+    mu: Optional[float]
+    lower: Optional[float]
+    upper: Optional[float]
+    u: Optional[np.ndarray]
+    r: Optional[np.ndarray]
+    witness_status: Optional[List[str]]
+    stopped: Optional[str]
+    certified: Optional[bool]
+    info: dict
+    _json: str = field(repr=False)
+    _problem: Any = field(repr=False, default=None)
+
+    @classmethod
+    def _from_json(cls, text: str, problem: Any = None) -> "Critical":
+        doc = _json.loads(text)
+        witness = doc["witness"]
+        return cls(
+            status=doc["status"],
+            complete=doc["complete"],
+            mu=doc["mu_critical"],
+            lower=doc["lower"],
+            upper=doc["upper"],
+            u=None if witness is None else _vector(witness["u"]),
+            r=None if witness is None else _vector(witness["r"]),
+            witness_status=None if witness is None else list(witness["status"]),
+            stopped=doc["stopped"],
+            certified=doc["certified"],
+            info=doc["info"],
+            _json=text,
+            _problem=problem,
+        )
+
+    def to_json(self) -> str:
+        """The JSON document of ``wedged critical --json`` for the same run."""
+        return self._json
+
+    def to_meshio(self):
+        """The witness at ``upper`` on a meshed body as a ``meshio.Mesh`` (as
+        :meth:`Enumeration.to_meshio`)."""
+        if self._problem is None or self.u is None:
+            raise InputError("to_meshio needs a meshed body with a witness")
+        return self._problem._to_meshio(self.u)
+
+
+def _matrix(K: Any) -> np.ndarray:
+    """``K`` as a dense float64 array: a NumPy array (or anything ``np.asarray`` takes) or any
+    ``scipy.sparse`` matrix or array (densified: the problems are small and dense after
+    condensation)."""
+    if hasattr(K, "toarray") and type(K).__module__.startswith("scipy.sparse"):
+        K = K.toarray()
+    try:
+        array = np.asarray(K, dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise InputError(f"K: not a matrix of real numbers ({e})") from None
+    if array.ndim != 2:
+        raise InputError(f"K: the stiffness must be a 2-D matrix, got {array.ndim} dimension(s)")
+    return np.ascontiguousarray(array)
+
+
+def _number(name: str, value: Any) -> Optional[float]:
+    if value is None:
+        return None
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a number, got {value!r}") from None
+
+
+def enumerate(
+    K: Any,
+    mu: float,
+    *,
+    dim: int = 2,
+    method: Optional[str] = None,
+    time_limit: Optional[float] = None,
+    certify: bool = False,
+    zero_tol: Optional[float] = None,
+    progress: bool = False,
+) -> Enumeration:
+    """Every wedged configuration of the condensed stiffness ``K`` at friction ``mu``.
+
+    ``K``: ``dim m x dim m``, symmetric positive definite, local frames, normal first (a NumPy
+    array or any ``scipy.sparse`` matrix). ``method``: as the command's ``--method``
+    (default ``pruned-dd`` in 2D, ``bnb`` in 3D). ``time_limit`` in seconds (the result is
+    then marked incomplete); ``certify`` checks the answer in exact arithmetic (a failure
+    raises :class:`InternalError`); ``progress`` draws the command's progress line on
+    stderr once the run has lasted a second.
+    """
+    text = _wedged.enumerate(
+        _matrix(K),
+        _number("mu", mu),
+        dim=int(dim),
+        method=method,
+        time_limit=_number("time_limit", time_limit),
+        certify=bool(certify),
+        zero_tol=_number("zero_tol", zero_tol),
+        progress=bool(progress),
+    )
+    return Enumeration._from_json(text)
+
+
+def critical(
+    K: Any,
+    *,
+    dim: int = 2,
+    method: Optional[str] = None,
+    time_limit: Optional[float] = None,
+    certify: bool = False,
+    tol: Optional[float] = None,
+    progress: bool = False,
+) -> Critical:
+    """The critical friction coefficient ``mu*`` of the condensed stiffness ``K``: the least
+    ``mu`` at which WP has a solution ``(u, r) != 0``, bracketed to the relative width ``tol``
+    (default 1e-9). ``method``: ``bnb`` (default), ``enumerate`` or ``faces``; ``certify``
+    checks every pruning decision behind ``lower`` and the witness at ``upper`` exactly."""
+    text = _wedged.critical(
+        _matrix(K),
+        dim=int(dim),
+        method=method,
+        time_limit=_number("time_limit", time_limit),
+        certify=bool(certify),
+        tol=_number("tol", tol),
+        progress=bool(progress),
+    )
+    return Critical._from_json(text)
+
+
+class Problem:
+    """A problem file (TOML) of the command, loaded by :func:`load`: a condensed stiffness
+    (``[stiffness]``) or a meshed body (``[mesh]``), condensed onto its contact nodes."""
+
+    def __init__(self, loaded: Any):
+        self._loaded = loaded
+
+    @property
+    def K(self) -> np.ndarray:
+        """The condensed stiffness, local frames, normal first."""
+        return self._loaded.K
+
+    @property
+    def mu(self) -> Optional[float]:
+        """The file's ``mu`` (None when it gives none)."""
+        return self._loaded.mu
+
+    @property
+    def dim(self) -> int:
+        return self._loaded.dim
+
+    @property
+    def is_mesh(self) -> bool:
+        """Whether the file describes a meshed body."""
+        return self._loaded.is_mesh
+
+    def __repr__(self) -> str:
+        kind = "meshed body" if self.is_mesh else "condensed stiffness"
+        return f"<wedged.Problem {self._loaded.source!r}: {kind}, dim {self.dim}, " \
+               f"{self.K.shape[0] // self.dim} contact nodes, mu {self.mu}>"
+
+    def enumerate(self, *, mu: Optional[float] = None, **kw: Any) -> Enumeration:
+        """As :func:`enumerate`, at the file's ``mu`` unless ``mu`` is given."""
+        text = self._loaded.enumerate(mu=_number("mu", mu), **kw)
+        return Enumeration._from_json(text, self if self.is_mesh else None)
+
+    def critical(self, **kw: Any) -> Critical:
+        """As :func:`critical`."""
+        text = self._loaded.critical(**kw)
+        return Critical._from_json(text, self if self.is_mesh else None)
+
+    def mesh(self) -> dict:
+        """The mesh of a meshed body: ``points`` (``N x 3``), ``cells`` (meshio blocks
+        ``[(type, array)]``), ``contact_nodes`` (the mesh node of each contact node, in the
+        order of ``K``), ``frames`` (``m x dim x dim``, each contact node's axes, normal
+        first: the inward normal of the body; ``K``'s local frames) and ``clamped`` (the mesh
+        nodes held fixed)."""
+        return self._loaded.mesh()
+
+    def _to_meshio(self, u: np.ndarray):
+        import meshio
+
+        mesh = self._loaded.mesh()
+        points, cells = mesh["points"], mesh["cells"]
+        displacement, force, stress, von_mises = self._loaded.recover(np.ascontiguousarray(u))
+        sizes = [len(block) for _, block in cells]
+        bounds = np.cumsum([0] + sizes)
+        return meshio.Mesh(
+            points,
+            cells,
+            point_data={"displacement": displacement, "reaction": force},
+            cell_data={
+                "stress": [stress[a:b] for a, b in zip(bounds[:-1], bounds[1:])],
+                "von_mises": [von_mises[a:b] for a, b in zip(bounds[:-1], bounds[1:])],
+            },
+        )
+
+
+def load(path: Any) -> Problem:
+    """Reads a problem file of the command (TOML; a condensed stiffness or a meshed body,
+    ``mu`` optional): see ``wedged --help``."""
+    return Problem(_wedged.load(str(path)))

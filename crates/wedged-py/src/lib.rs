@@ -1,0 +1,506 @@
+//! `wedged._wedged`: the extension module behind the Python package `wedged` (issue 23).
+//!
+//! Thin by design: it turns NumPy arrays into the library's matrices, runs the same jobs as
+//! the command (`wedged_cli::jobs`: options checked, the run, errors sorted into bad input and
+//! internal failures) and hands back the command's JSON document, from which
+//! `python/wedged/__init__.py` builds its result objects. So the library, the command and
+//! Python give the same answer, number for number (the JSON writes each `f64` exactly).
+//!
+//! Every run leaves the GIL to a worker thread and polls Python's signals every
+//! [`POLL`]: Ctrl-C sets the run's cancel flag, waits for it to stop, and raises
+//! `KeyboardInterrupt`.
+
+use std::panic::{self, AssertUnwindSafe};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Condvar, Mutex};
+use std::time::Duration;
+
+use nalgebra::DMatrix;
+use numpy::{
+    PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
+};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use wedged::fe::{ElementKind, Model};
+use wedged::Problem;
+use wedged_cli::input::problem_file;
+use wedged_cli::jobs::{
+    self, CriticalMethodArg, CriticalOptions, EnumerateOptions, Failure, MethodArg, Show,
+};
+use wedged_cli::one_line;
+
+create_exception!(
+    _wedged,
+    InputError,
+    PyValueError,
+    "Bad input: the same one-line message as the command's exit code 2."
+);
+create_exception!(
+    _wedged,
+    InternalError,
+    PyRuntimeError,
+    "A failed internal check (a bug in wedged): the command's exit code 1."
+);
+
+/// How often a run polls Python's signals (Ctrl-C).
+const POLL: Duration = Duration::from_millis(50);
+
+fn to_py(failure: Failure) -> PyErr {
+    match failure {
+        Failure::Input(m) => InputError::new_err(one_line(&m)),
+        Failure::Internal(m) | Failure::Incomplete(m) => InternalError::new_err(one_line(&m)),
+    }
+}
+
+/// Runs `work` on a worker thread without the GIL, polling Python's signals; on Ctrl-C the
+/// run's cancel flag is set, the worker is waited for, and `KeyboardInterrupt` raised.
+fn released<T: Send>(
+    py: Python<'_>,
+    work: impl FnOnce(&AtomicBool) -> Result<T, Failure> + Send,
+) -> PyResult<T> {
+    let cancel = AtomicBool::new(false);
+    // Set by the worker when it ends, panic or not.
+    let finished = (Mutex::new(false), Condvar::new());
+    std::thread::scope(|scope| {
+        let (cancel, finished) = (&cancel, &finished);
+        let worker = scope.spawn(move || {
+            let out = panic::catch_unwind(AssertUnwindSafe(|| work(cancel)));
+            if let Ok(mut done) = finished.0.lock() {
+                *done = true;
+            }
+            finished.1.notify_all();
+            out
+        });
+        loop {
+            let done = py.detach(|| {
+                let Ok(guard) = finished.0.lock() else {
+                    return true;
+                };
+                finished
+                    .1
+                    .wait_timeout_while(guard, POLL, |done| !*done)
+                    .map_or(true, |(done, _)| *done)
+            });
+            if done {
+                break;
+            }
+            if let Err(interrupt) = py.check_signals() {
+                cancel.store(true, Ordering::Relaxed);
+                py.detach(|| {
+                    let _ = worker.join();
+                });
+                return Err(interrupt);
+            }
+        }
+        match worker.join() {
+            Ok(Ok(result)) => result.map_err(to_py),
+            _ => Err(InternalError::new_err(
+                "internal failure (a bug in wedged, please report it): the run panicked",
+            )),
+        }
+    })
+}
+
+/// The condensed stiffness of an array: square, `f64`, copied.
+fn matrix(k: &PyReadonlyArray2<'_, f64>) -> PyResult<DMatrix<f64>> {
+    let shape = k.shape();
+    let (rows, cols) = (shape[0], shape[1]);
+    if rows != cols {
+        return Err(InputError::new_err(format!(
+            "K: the stiffness must be square, got {rows} x {cols}"
+        )));
+    }
+    let view = k.as_array();
+    Ok(DMatrix::from_fn(rows, cols, |i, j| view[[i, j]]))
+}
+
+/// The problem of a matrix (`source` names it in messages).
+fn matrix_problem(k: &PyReadonlyArray2<'_, f64>, dim: usize, mu: f64) -> PyResult<Problem> {
+    if dim != 2 && dim != 3 {
+        return Err(InputError::new_err(format!(
+            "dim must be 2 or 3, got {dim}"
+        )));
+    }
+    Problem::new(dim, matrix(k)?, mu).map_err(|e| InputError::new_err(format!("K: {e}")))
+}
+
+fn method_of(name: Option<&str>) -> PyResult<Option<MethodArg>> {
+    name.map(|n| {
+        MethodArg::named(n).ok_or_else(|| {
+            InputError::new_err(format!(
+                "method {n:?} is not a method of enumerate (pruned-dd, full-dd, faces, exact, \
+                 search, bnb, pyramid, pattern-faces, pattern-search)"
+            ))
+        })
+    })
+    .transpose()
+}
+
+fn critical_method_of(name: Option<&str>) -> PyResult<Option<wedged::CriticalMethod>> {
+    name.map(|n| {
+        CriticalMethodArg::named(n).ok_or_else(|| {
+            InputError::new_err(format!(
+                "method {n:?} is not a method of critical (bnb, enumerate, faces)"
+            ))
+        })
+    })
+    .transpose()
+}
+
+fn show(progress: bool) -> Show {
+    if progress {
+        Show::Always
+    } else {
+        Show::Never
+    }
+}
+
+/// Enumerates `problem` as `wedged enumerate` does and returns its JSON document.
+#[allow(clippy::too_many_arguments)]
+fn enumerate_json(
+    py: Python<'_>,
+    problem: &Problem,
+    model: Option<&Model>,
+    source: &str,
+    method: Option<&str>,
+    time_limit: Option<f64>,
+    certify: bool,
+    zero_tol: Option<f64>,
+    progress: bool,
+) -> PyResult<String> {
+    let options = EnumerateOptions {
+        method: method_of(method)?,
+        zero_tol,
+        time_limit,
+        certify,
+        ..EnumerateOptions::default()
+    };
+    let choice = jobs::plan_enumerate(problem, source, &options).map_err(to_py)?;
+    released(py, |cancel| {
+        let run = jobs::enumerate(problem, &choice, source, certify, cancel, show(progress))?;
+        if let Some(failure) = run.certification_failure(source) {
+            return Err(failure);
+        }
+        Ok(run.json(problem, &choice, model))
+    })
+}
+
+/// Computes `mu*` as `wedged critical` does and returns its JSON document.
+#[allow(clippy::too_many_arguments)]
+fn critical_json(
+    py: Python<'_>,
+    problem: &Problem,
+    model: Option<&Model>,
+    source: &str,
+    method: Option<&str>,
+    time_limit: Option<f64>,
+    certify: bool,
+    tol: Option<f64>,
+    progress: bool,
+) -> PyResult<String> {
+    let settings = jobs::plan_critical(&CriticalOptions {
+        method: critical_method_of(method)?,
+        tol,
+        time_limit,
+        certify,
+    })
+    .map_err(to_py)?;
+    released(py, |cancel| {
+        let result =
+            jobs::run_critical_library(problem, &settings, source, cancel, show(progress))?;
+        if let Some(failure) = jobs::critical_certification_failure(source, &result) {
+            return Err(failure);
+        }
+        Ok(wedged_cli::report::critical::to_json(
+            problem, &settings, source, &result, model,
+        ))
+    })
+}
+
+/// `enumerate(K, mu, dim, method, time_limit, certify, zero_tol, progress)`: the JSON of
+/// `wedged enumerate` on the condensed stiffness `K`.
+#[pyfunction]
+#[pyo3(signature = (k, mu, dim=2, method=None, time_limit=None, certify=false, zero_tol=None, progress=false))]
+#[allow(clippy::too_many_arguments)]
+fn enumerate(
+    py: Python<'_>,
+    k: PyReadonlyArray2<'_, f64>,
+    mu: f64,
+    dim: usize,
+    method: Option<&str>,
+    time_limit: Option<f64>,
+    certify: bool,
+    zero_tol: Option<f64>,
+    progress: bool,
+) -> PyResult<String> {
+    let problem = matrix_problem(&k, dim, mu)?;
+    enumerate_json(
+        py, &problem, None, "K", method, time_limit, certify, zero_tol, progress,
+    )
+}
+
+/// `critical(K, dim, method, time_limit, certify, tol, progress)`: the JSON of
+/// `wedged critical` on the condensed stiffness `K`.
+#[pyfunction]
+#[pyo3(signature = (k, dim=2, method=None, time_limit=None, certify=false, tol=None, progress=false))]
+#[allow(clippy::too_many_arguments)]
+fn critical(
+    py: Python<'_>,
+    k: PyReadonlyArray2<'_, f64>,
+    dim: usize,
+    method: Option<&str>,
+    time_limit: Option<f64>,
+    certify: bool,
+    tol: Option<f64>,
+    progress: bool,
+) -> PyResult<String> {
+    // mu plays no part in mu*; 1 passes the check of mu.
+    let problem = matrix_problem(&k, dim, 1.0)?;
+    critical_json(
+        py, &problem, None, "K", method, time_limit, certify, tol, progress,
+    )
+}
+
+/// A problem file (TOML: a condensed stiffness or a meshed body), loaded.
+#[pyclass(frozen, module = "wedged._wedged")]
+struct LoadedProblem {
+    problem: Problem,
+    model: Option<Model>,
+    /// Whether the file gives `mu`.
+    mu_given: bool,
+    source: String,
+}
+
+#[pymethods]
+impl LoadedProblem {
+    /// The condensed stiffness, local frames, normal first.
+    #[getter(K)]
+    fn k<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let k = self.problem.stiffness();
+        let rows: Vec<Vec<f64>> = (0..k.nrows())
+            .map(|i| k.row(i).iter().copied().collect())
+            .collect();
+        PyArray2::from_vec2(py, &rows).expect("rows of equal length")
+    }
+
+    /// The file's `mu`, `None` when it gives none.
+    #[getter]
+    fn mu(&self) -> Option<f64> {
+        self.mu_given.then(|| self.problem.mu())
+    }
+
+    #[getter]
+    fn dim(&self) -> usize {
+        self.problem.dim()
+    }
+
+    #[getter]
+    fn source(&self) -> &str {
+        &self.source
+    }
+
+    #[getter]
+    fn is_mesh(&self) -> bool {
+        self.model.is_some()
+    }
+
+    /// The JSON of `wedged enumerate FILE [--mu MU]`.
+    #[pyo3(signature = (mu=None, method=None, time_limit=None, certify=false, zero_tol=None, progress=false))]
+    #[allow(clippy::too_many_arguments)]
+    fn enumerate(
+        &self,
+        py: Python<'_>,
+        mu: Option<f64>,
+        method: Option<&str>,
+        time_limit: Option<f64>,
+        certify: bool,
+        zero_tol: Option<f64>,
+        progress: bool,
+    ) -> PyResult<String> {
+        let with_mu;
+        let problem = match (mu, self.mu_given) {
+            (Some(mu), _) => {
+                with_mu = self
+                    .problem
+                    .with_mu(mu)
+                    .map_err(|e| InputError::new_err(format!("mu: {e}")))?;
+                &with_mu
+            }
+            (None, true) => &self.problem,
+            (None, false) => {
+                return Err(InputError::new_err(format!(
+                    "{}: the file gives no mu; pass mu=...",
+                    self.source
+                )))
+            }
+        };
+        enumerate_json(
+            py,
+            problem,
+            self.model.as_ref(),
+            &self.source,
+            method,
+            time_limit,
+            certify,
+            zero_tol,
+            progress,
+        )
+    }
+
+    /// The JSON of `wedged critical FILE`.
+    #[pyo3(signature = (method=None, time_limit=None, certify=false, tol=None, progress=false))]
+    fn critical(
+        &self,
+        py: Python<'_>,
+        method: Option<&str>,
+        time_limit: Option<f64>,
+        certify: bool,
+        tol: Option<f64>,
+        progress: bool,
+    ) -> PyResult<String> {
+        critical_json(
+            py,
+            &self.problem,
+            self.model.as_ref(),
+            &self.source,
+            method,
+            time_limit,
+            certify,
+            tol,
+            progress,
+        )
+    }
+
+    /// The mesh of a meshed body, as a dict: `points` (`N x 3`), `cells` (meshio blocks
+    /// `[(type, array of node indices)]`, consecutive elements of one kind in one block),
+    /// `contact_nodes` (the mesh node of each contact node, in the order of `K`), `frames`
+    /// (`m x dim x dim`: each contact node's axes, normal first, the inward normal of the
+    /// body, in global coordinates: the rows that take a global vector to its local
+    /// components) and `clamped` (the mesh nodes held fixed).
+    fn mesh<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let model = self.model_or_err()?;
+        let mesh = model.mesh();
+        let boundary = model.boundary();
+        let dim = self.problem.dim();
+        let points: Vec<Vec<f64>> = mesh.coords().iter().map(|p| p.to_vec()).collect();
+        let mut blocks: Vec<(&'static str, Vec<Vec<u64>>)> = Vec::new();
+        for element in mesh.elements() {
+            let name = meshio_type(element.kind);
+            let cell: Vec<u64> = element.nodes.iter().map(|&n| n as u64).collect();
+            match blocks.last_mut() {
+                Some((last, cells)) if *last == name => cells.push(cell),
+                _ => blocks.push((name, vec![cell])),
+            }
+        }
+        let cells = PyList::empty(py);
+        for (name, block) in blocks {
+            let array = PyArray2::from_vec2(py, &block).expect("cells of one kind");
+            cells.append((name, array))?;
+        }
+        let nodes = |v: &[usize]| PyArray1::from_vec(py, v.iter().map(|&n| n as u64).collect());
+        let frames: Vec<Vec<Vec<f64>>> = boundary
+            .frames
+            .iter()
+            .map(|f| f.axes()[..dim].iter().map(|a| a[..dim].to_vec()).collect())
+            .collect();
+        let out = PyDict::new(py);
+        out.set_item(
+            "points",
+            PyArray2::from_vec2(py, &points).expect("3 coordinates per point"),
+        )?;
+        out.set_item("cells", cells)?;
+        out.set_item("contact_nodes", nodes(&boundary.contact_nodes))?;
+        out.set_item(
+            "frames",
+            PyArray3::from_vec3(py, &frames).expect("dim axes of dim components"),
+        )?;
+        out.set_item("clamped", nodes(&boundary.clamped))?;
+        Ok(out)
+    }
+
+    /// The whole body's state for the contact displacements `u` (local frames, as in the
+    /// JSON): displacement and nodal force (the reaction at the contact nodes) per mesh node
+    /// (`N x 3`), and per element the stress (`E x 6`: xx, yy, zz, xy, yz, zx) and its von
+    /// Mises value.
+    #[allow(clippy::type_complexity)]
+    fn recover<'py>(
+        &self,
+        py: Python<'py>,
+        u: PyReadonlyArray1<'_, f64>,
+    ) -> PyResult<(
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray1<f64>>,
+    )> {
+        let model = self.model_or_err()?;
+        let u = u.as_slice()?;
+        let expected = self.problem.stiffness().nrows();
+        if u.len() != expected || u.iter().any(|x| !x.is_finite()) {
+            return Err(InputError::new_err(format!(
+                "u must hold {expected} finite numbers (the contact displacements), got {}",
+                u.len()
+            )));
+        }
+        let state = model.recover(u);
+        let rows3 = |v: &[[f64; 3]]| v.iter().map(|p| p.to_vec()).collect::<Vec<_>>();
+        let stress: Vec<Vec<f64>> = state.stress.iter().map(|s| s.to_vec()).collect();
+        Ok((
+            PyArray2::from_vec2(py, &rows3(&state.displacement)).expect("3 per node"),
+            PyArray2::from_vec2(py, &rows3(&state.force)).expect("3 per node"),
+            PyArray2::from_vec2(py, &stress).expect("6 per element"),
+            PyArray1::from_vec(py, state.von_mises),
+        ))
+    }
+}
+
+impl LoadedProblem {
+    fn model_or_err(&self) -> PyResult<&Model> {
+        self.model.as_ref().ok_or_else(|| {
+            InputError::new_err(format!(
+                "{}: a condensed stiffness has no mesh ([mesh] in the problem file)",
+                self.source
+            ))
+        })
+    }
+}
+
+/// meshio's name of an element kind.
+fn meshio_type(kind: ElementKind) -> &'static str {
+    match kind {
+        ElementKind::Tri3 => "triangle",
+        ElementKind::Quad4 => "quad",
+        ElementKind::Tet4 => "tetra",
+        ElementKind::Hex8 => "hexahedron",
+    }
+}
+
+/// `load(path)`: a problem file, read as `wedged critical` reads it (`mu` optional).
+#[pyfunction]
+fn load(py: Python<'_>, path: PathBuf) -> PyResult<LoadedProblem> {
+    let source = path.display().to_string();
+    let (loaded, mu_given) = py
+        .detach(|| problem_file::load_for_critical(&path))
+        .map_err(|e| InputError::new_err(one_line(&e.to_string())))?;
+    Ok(LoadedProblem {
+        problem: loaded.problem,
+        model: loaded.model,
+        mu_given,
+        source,
+    })
+}
+
+#[pymodule]
+fn _wedged(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("InputError", m.py().get_type::<InputError>())?;
+    m.add("InternalError", m.py().get_type::<InternalError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(enumerate, m)?)?;
+    m.add_function(wrap_pyfunction!(critical, m)?)?;
+    m.add_function(wrap_pyfunction!(load, m)?)?;
+    m.add_class::<LoadedProblem>()?;
+    Ok(())
+}

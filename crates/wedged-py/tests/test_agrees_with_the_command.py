@@ -1,0 +1,70 @@
+"""The Python package gives the command's answer: the same JSON document, number for number,
+on the examples and the fixtures, for enumerate and critical."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import wedged
+from conftest import EXAMPLES, FIXTURES, cli_json, same_critical, stable
+
+FILES = [
+    EXAMPLES / "plug2d.toml",
+    EXAMPLES / "plug2d_gmsh.toml",
+    EXAMPLES / "plug3d.toml",
+    FIXTURES / "two_nodes.toml",
+    FIXTURES / "coupled_array.toml",
+    FIXTURES / "coupled_coordinate.toml",
+]
+
+
+@pytest.mark.parametrize("path", FILES, ids=lambda p: p.name)
+def test_enumerate_json_equals_the_command(path):
+    python = wedged.load(path).enumerate()
+    assert stable(json.loads(python.to_json())) == stable(cli_json("enumerate", str(path)))
+
+
+@pytest.mark.parametrize("path", FILES, ids=lambda p: p.name)
+def test_critical_json_equals_the_command(path):
+    python = wedged.load(path).critical()
+    same_critical(json.loads(python.to_json()), cli_json("critical", str(path)))
+
+
+@pytest.mark.parametrize("method", ["pruned-dd", "search", "bnb", "pattern-search", "pattern-faces"])
+def test_every_2d_method_equals_the_command(method):
+    path = EXAMPLES / "plug2d.toml"
+    python = wedged.load(path).enumerate(method=method, mu=2.5)
+    command = cli_json("enumerate", str(path), "--method", method, "--mu", "2.5")
+    assert stable(json.loads(python.to_json())) == stable(command)
+
+
+def test_objects_carry_the_json():
+    path = FIXTURES / "coupled_array.toml"
+    result = wedged.load(path).enumerate()
+    doc = json.loads(result.to_json())
+    assert result.complete is True and result.outcome == doc["outcome"]
+    assert len(result.rays) == len(doc["rays"]) == 7
+    assert len(result.cones) == len(doc["cones"]) == 4
+    for ray, entry in zip(result.rays, doc["rays"]):
+        assert ray.u.dtype == np.float64 and ray.u.shape == (6,)
+        assert np.array_equal(ray.u, entry["u"]) and np.array_equal(ray.r, entry["r"])
+        assert ray.status == entry["status"]
+    for cone, entry in zip(result.cones, doc["cones"]):
+        assert cone.rays == entry["rays"] and cone.status == entry["status"]
+    assert [p.pattern for p in result.patterns] == [c.status for c in result.cones]
+
+
+def test_a_matrix_from_python_equals_its_problem_file(tmp_path):
+    k = wedged.load(FIXTURES / "coupled_array.toml").K
+    rows = ",\n  ".join("[" + ", ".join(repr(float(x)) for x in row) + "]" for row in k)
+    toml = tmp_path / "k.toml"
+    toml.write_text(f"dim = 2\nmu = 1.5\n\n[stiffness]\nrows = [\n  {rows},\n]\n")
+    python = wedged.enumerate(k, 1.5)
+    assert stable(json.loads(python.to_json())) == stable(cli_json("enumerate", str(toml)))
+    critical = json.loads(wedged.critical(k).to_json())
+    command = cli_json("critical", str(toml))
+    critical["source"] = command["source"]
+    same_critical(critical, command)

@@ -1,0 +1,67 @@
+"""The scikit-fem example (examples/python/skfem_plug.py): a plug assembled and condensed in
+Python gives the command's mu* and pieces on the same mesh (written as Gmsh MSH 4.1 by
+meshio and read by the command)."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+
+import numpy as np
+import pytest
+
+import wedged
+from conftest import EXAMPLES, cli_json
+
+pytest.importorskip("skfem")
+pytest.importorskip("meshio")
+
+
+def example():
+    spec = importlib.util.spec_from_file_location("skfem_plug", EXAMPLES / "python" / "skfem_plug.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def pieces_by_place(patterns, places):
+    """Each piece as {node position: contact pattern}; a set of them, whatever the node
+    numbering (meshio writes the nodes entity by entity, so the command numbers them anew)."""
+    return {
+        frozenset(zip(places, p["pattern"] if isinstance(p, dict) else p.pattern))
+        for p in patterns
+    }
+
+
+def places(points, nodes):
+    return [tuple(np.round(points[j, :2], 12)) for j in nodes]
+
+
+@pytest.mark.parametrize("n", [6, 10])
+def test_python_and_the_command_agree_on_the_same_mesh(tmp_path, n):
+    plug = example()
+    k, contact, _, _ = plug.condensed_plug(n)
+    toml = plug.write_msh(n, tmp_path / "plug.msh", 2.0)
+    command = cli_json("critical", str(toml))
+    python = wedged.critical(k)
+    assert python.status == command["status"] == "wedged"
+    assert abs(python.mu - command["mu_critical"]) <= 1e-9 * command["mu_critical"]
+    # The command's contact nodes lie where the example's do.
+    mesh, _, _, _ = plug.plug_mesh(n)
+    ours_at = places(mesh.p.T, contact)
+    theirs_mesh = wedged.load(toml).mesh()
+    theirs_at = places(theirs_mesh["points"], theirs_mesh["contact_nodes"])
+    assert sorted(ours_at) == sorted(theirs_at)
+    ours = wedged.enumerate(k, 2.0, method="pattern-search")
+    theirs = cli_json("enumerate", str(toml), "--method", "pattern-search")
+    assert len(ours.patterns) == len(theirs["patterns"]) > 0
+    assert pieces_by_place(ours.patterns, ours_at) == pieces_by_place(theirs["patterns"], theirs_at)
+
+
+def test_the_example_runs(tmp_path, monkeypatch, capsys):
+    plug = example()
+    png = tmp_path / "plug.png"
+    monkeypatch.setattr(sys, "argv", ["skfem_plug.py", "--n", "6", "--png", str(png)])
+    plug.main()
+    assert png.stat().st_size > 1000
+    assert "mu* =" in capsys.readouterr().out
