@@ -133,6 +133,19 @@ fn a_generated_plug_writes_json_vtu_and_svg() {
     assert!(!out_dir.join("cone-99.vtu").exists());
     assert!(out_dir.join("notes.txt").exists());
     assert!(summary.contains(&format!("{cones} .vtu file")), "{summary}");
+    // The collection lists every cone's file, cone N at time step N.
+    let pvd = fs::read_to_string(out_dir.join("pieces.pvd")).unwrap();
+    assert!(pvd.contains("type=\"Collection\""), "{pvd}");
+    let width = (cones - 1).to_string().len();
+    for c in 0..cones {
+        let file = format!("cone-{c:0width$}.vtu");
+        assert!(
+            pvd.contains(&format!("timestep=\"{c}\" part=\"0\" file=\"{file}\"")),
+            "{pvd}"
+        );
+    }
+    assert_eq!(pvd.matches("<DataSet").count(), cones);
+    assert!(summary.contains("pieces.pvd"), "{summary}");
     let model = &report["model"];
     assert_eq!(model["contact"].as_array().unwrap().len(), 8);
     assert_eq!(model["clamped_contact_nodes"], 2);

@@ -7,7 +7,9 @@
 //!   to `sum r_n = 1`) mapped back to the mesh; the VTU files also carry each ray's displacement;
 //! - pattern methods: `pattern-N.vtu` and `pattern-N.svg` per maximal sign pattern, showing the
 //!   pattern's witness (`wedged::patterns::Pattern::u`, in the relative interior of its piece)
-//!   with the statuses at the witness.
+//!   with the statuses at the witness;
+//! - with `--vtk`, also `pieces.pvd`: a ParaView collection of the run's VTU files, piece `N`
+//!   at time step `N`, so that ParaView opens the whole answer at once and steps through it.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -23,8 +25,8 @@ use crate::draw::vtk::{vtu_bytes, View};
 use crate::report::files::write_atomic;
 
 /// Creates `dir` (and its parents) and removes the `cone-N.<extension>` and
-/// `pattern-N.<extension>` files of an earlier run, so that the directory holds exactly this
-/// run's pieces. Called before the run, so that an unusable directory fails early.
+/// `pattern-N.<extension>` files of an earlier run, and with them its collection file, so that
+/// the directory holds exactly this run's pieces. Called before the run, so that an unusable directory fails early.
 pub fn prepare_dir(dir: &Path, option: &str, extension: &str) -> Result<(), String> {
     if dir.exists() && !dir.is_dir() {
         return Err(format!(
@@ -43,7 +45,7 @@ pub fn prepare_dir(dir: &Path, option: &str, extension: &str) -> Result<(), Stri
     for entry in entries.flatten() {
         let name = entry.file_name();
         let name = name.to_string_lossy();
-        if is_piece_file(&name, extension) {
+        if is_piece_file(&name, extension) || (extension == "vtu" && name == COLLECTION) {
             fs::remove_file(entry.path()).map_err(|e| {
                 format!(
                     "{}: cannot remove the old {}: {e}",
@@ -65,7 +67,11 @@ fn is_piece_file(name: &str, extension: &str) -> bool {
         .is_some_and(|digits| !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()))
 }
 
-/// Writes the files of every piece (cone or pattern); returns the paths written.
+/// The collection file of `--vtk` ([`write_collection`]).
+pub const COLLECTION: &str = "pieces.pvd";
+
+/// Writes the files of every piece (cone or pattern) and, with `vtk`, their collection;
+/// returns the paths written.
 pub fn write_pieces(
     model: &Model,
     problem: &Problem,
@@ -73,10 +79,43 @@ pub fn write_pieces(
     vtk: Option<&Path>,
     svg: Option<&Path>,
 ) -> Result<Vec<PathBuf>, String> {
-    match answer {
+    let mut written = match answer {
         Answer::Rays(result) => write_cones(model, problem, result, vtk, svg),
         Answer::Patterns(result) => write_patterns(model, problem, result, vtk, svg),
+    }?;
+    if let Some(dir) = vtk {
+        let pieces: Vec<&PathBuf> = written
+            .iter()
+            .filter(|p| p.extension().is_some_and(|e| e == "vtu"))
+            .collect();
+        if !pieces.is_empty() {
+            let path = dir.join(COLLECTION);
+            write_atomic(&path, collection(&pieces).as_bytes(), "ParaView collection")
+                .map_err(|e| e.to_string())?;
+            written.push(path);
+        }
     }
+    Ok(written)
+}
+
+/// A ParaView collection (`.pvd`) of `files` (in one directory, named relative to it), file
+/// `N` at time step `N`.
+fn collection(files: &[&PathBuf]) -> String {
+    let mut out = String::from(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" \
+         byte_order=\"LittleEndian\">\n  <Collection>\n",
+    );
+    for (step, file) in files.iter().enumerate() {
+        let name = file
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        out.push_str(&format!(
+            "    <DataSet timestep=\"{step}\" part=\"0\" file=\"{name}\"/>\n"
+        ));
+    }
+    out.push_str("  </Collection>\n</VTKFile>\n");
+    out
 }
 
 /// Writes the files of every maximal pattern, from its witness; returns the paths written.

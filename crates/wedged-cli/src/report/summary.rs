@@ -712,9 +712,14 @@ pub fn files(
                 dir.display()
             );
         } else {
+            let collection = if ext == "vtu" {
+                "; pieces.pvd opens them all in ParaView, piece N at time step N"
+            } else {
+                ""
+            };
             let _ = writeln!(
                 out,
-                "{} written to {} ({stem}-N.{ext}, one {what} per {each})",
+                "{} written to {} ({stem}-N.{ext}, one {what} per {each}{collection})",
                 plural(n, &format!(".{ext} file"), &format!(".{ext} files")),
                 dir.display()
             );
