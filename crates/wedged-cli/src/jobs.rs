@@ -155,6 +155,28 @@ pub fn plan_enumerate(
         None if problem.dim() == 2 => MethodArg::Rays(Method::PrunedDd),
         None => MethodArg::Patterns(PatternMethod::Bnb),
     };
+    if options.certify {
+        // Their answers' completeness rests on floating-point decisions that are not kept for
+        // an exact check: refused here rather than reported as a failed certification (exit
+        // 1, "a bug") after the run.
+        let why = match method {
+            MethodArg::Patterns(PatternMethod::Pyramid { .. }) => {
+                Some("its candidates come from a floating-point double description on the pyramid")
+            }
+            MethodArg::Patterns(PatternMethod::Search) => Some(
+                "it prunes on the simplex method's certificates and on drive cuts, which are not \
+                 yet kept for an exact check",
+            ),
+            _ => None,
+        };
+        if let Some(why) = why {
+            return Err(Failure::Input(format!(
+                "--certify cannot prove the answer of --method {} complete ({why}); use \
+                 --method bnb or pattern-faces for certified patterns, or drop --certify",
+                method.name()
+            )));
+        }
+    }
     if faces.is_some() && !matches!(method, MethodArg::Patterns(PatternMethod::Pyramid { .. })) {
         return Err(Failure::Input(format!(
             "--pyramid-faces is used by --method pyramid only, and the method is {}",

@@ -124,6 +124,32 @@ fn certify_with_enumerate_is_refused() {
 }
 
 #[test]
+fn certify_with_an_uncertifiable_pattern_method_is_refused() {
+    // pyramid and pattern-search cannot prove their answers complete: refused before the run
+    // (exit 2), not reported as a failed certification (exit 1) after it.
+    for method in ["pyramid", "pattern-search"] {
+        let out = wedged(&[
+            "enumerate",
+            &example("plug2d.toml"),
+            "--method",
+            method,
+            "--certify",
+        ]);
+        assert_eq!(out.status.code(), Some(2), "{method}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains(&format!(
+                "--certify cannot prove the answer of --method {method}"
+            )),
+            "{err}"
+        );
+        assert!(err.contains("bnb or pattern-faces"), "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(out.stdout.is_empty(), "nothing is run");
+    }
+}
+
+#[test]
 fn the_3d_plug_is_certified_by_both_exact_methods() {
     let file = example("plug3d.toml");
     for method in ["bnb", "pattern-faces"] {
@@ -161,8 +187,8 @@ fn a_2d_plug_by_bnb_is_certified() {
     ]);
 }
 
-/// The pyramid's candidates come from floating-point double description: not certified, said
-/// plainly, exit code 1.
+/// The pyramid's candidates come from floating-point double description: `--certify` is
+/// refused in 3D too, said plainly, exit code 2.
 #[test]
 fn the_pyramid_method_is_not_certified() {
     let out = wedged(&[
@@ -172,12 +198,10 @@ fn the_pyramid_method_is_not_certified() {
         "pyramid",
         "--certify",
     ]);
-    assert_eq!(out.status.code(), Some(1));
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        text.contains("WARNING: exact certification failed: the pyramid method"),
-        "{text}"
-    );
+    assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("exact certification failed"), "{err}");
+    assert!(
+        err.contains("floating-point double description on the pyramid"),
+        "{err}"
+    );
 }

@@ -187,6 +187,7 @@ def test_bad_options(tmp_path):
         (lambda: wedged.enumerate(k, 1.1, time_limit=-1), "time-limit"),
         (lambda: wedged.critical(k, tol=2.0), "tol"),
         (lambda: wedged.critical(k, method="enumerate", certify=True), "certify"),
+        (lambda: wedged.enumerate(k, 1.1, method="pattern-search", certify=True), "certify"),
         (lambda: wedged.load(tmp_path / "missing.toml"), "missing.toml"),
         (lambda: wedged.load(FIXTURES / "hostile" / "mesh_missing_group.toml"), "group"),
         (lambda: wedged.load(FIXTURES / "two_nodes.toml").enumerate(mu=-2.0), "mu"),
