@@ -332,18 +332,32 @@ pub fn run_library(
 
 /// The live progress line (without its carriage return).
 pub fn progress_text(choice: &Choice, p: Progress, seconds: f64) -> String {
+    let share = p.done as f64 / p.total.max(1) as f64;
+    let count = |n: usize, one: &str, many: &str| {
+        if n == 1 {
+            format!("1 {one}")
+        } else {
+            format!("{n} {many}")
+        }
+    };
     match choice {
         Choice::Patterns(PatternSettings {
-            method: PatternMethod::Bnb,
+            method: PatternMethod::Bnb | PatternMethod::Search,
             ..
         }) => format!(
-            "explored {:.1}% of the search tree, {} found, {seconds:.1} s",
-            100.0 * p.done as f64 / p.total.max(1) as f64,
-            if p.rays == 1 {
-                "1 pattern".to_string()
-            } else {
-                format!("{} patterns", p.rays)
-            }
+            "explored {:.1}% of the search tree, {} found, {seconds:.1} s{}",
+            100.0 * share,
+            count(p.rays, "pattern", "patterns"),
+            time_left(share, seconds)
+        ),
+        Choice::Rays(Settings {
+            method: Method::Search,
+            ..
+        }) => format!(
+            "explored {:.1}% of the search tree, {} found, {seconds:.1} s{}",
+            100.0 * share,
+            count(p.rays, "contact set", "contact sets"),
+            time_left(share, seconds)
         ),
         Choice::Patterns(_) => format!(
             "pyramid approximation, node {}/{}: {} rays held, {seconds:.1} s",
@@ -354,6 +368,24 @@ pub fn progress_text(choice: &Choice, p: Progress, seconds: f64) -> String {
             p.done, p.total, p.rays
         ),
     }
+}
+
+/// `", about T left"` for a search that has explored `share` of its tree in `seconds`, at the
+/// same pace (the share counts each finished subtree at depth `d` as `2^-d` of the tree, so the
+/// estimate is rough while a few deep subtrees dominate); empty before 0.1% is explored.
+fn time_left(share: f64, seconds: f64) -> String {
+    if !(share >= 1e-3 && share < 1.0) {
+        return String::new();
+    }
+    let left = seconds * (1.0 - share) / share;
+    let text = if left < 90.0 {
+        format!("{left:.0} s")
+    } else if left < 90.0 * 60.0 {
+        format!("{:.0} min", left / 60.0)
+    } else {
+        format!("{:.1} h", left / 3600.0)
+    };
+    format!(", about {text} left")
 }
 
 /// The test hook `WEDGED_INJECT_FAULT` (see `wedged::Fault`): tests set it to see an internal

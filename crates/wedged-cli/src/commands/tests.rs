@@ -55,7 +55,35 @@ fn progress_lines_name_what_they_count() {
     let bnb = Choice::Patterns(PatternSettings::default());
     assert_eq!(
         progress_text(&bnb, p, 3.42),
-        "explored 37.2% of the search tree, 5 patterns found, 3.4 s"
+        "explored 37.2% of the search tree, 5 patterns found, 3.4 s, about 6 s left"
+    );
+    let search = Choice::Rays(Settings {
+        method: Method::Search,
+        ..Settings::default()
+    });
+    assert_eq!(
+        progress_text(
+            &search,
+            Progress {
+                done: 1,
+                total: 1000,
+                rays: 1
+            },
+            360.0
+        ),
+        "explored 0.1% of the search tree, 1 contact set found, 360.0 s, about 99.9 h left"
+    );
+    assert_eq!(
+        progress_text(
+            &search,
+            Progress {
+                done: 0,
+                total: 1000,
+                rays: 0
+            },
+            2.0
+        ),
+        "explored 0.0% of the search tree, 0 contact sets found, 2.0 s"
     );
     let rays = Choice::Rays(Settings::default());
     let p = Progress {
