@@ -374,7 +374,7 @@ pub fn progress_text(choice: &Choice, p: Progress, seconds: f64) -> String {
 /// same pace (the share counts each finished subtree at depth `d` as `2^-d` of the tree, so the
 /// estimate is rough while a few deep subtrees dominate); empty before 0.1% is explored.
 fn time_left(share: f64, seconds: f64) -> String {
-    if !(share >= 1e-3 && share < 1.0) {
+    if !(1e-3..1.0).contains(&share) {
         return String::new();
     }
     let left = seconds * (1.0 - share) / share;
