@@ -209,3 +209,16 @@ def test_an_internal_failure_is_internal_error(monkeypatch):
     with pytest.raises(wedged.InternalError) as e:
         wedged.critical(two_node_k())
     assert isinstance(e.value, RuntimeError) and "bug" in str(e.value)
+
+
+HOSTILE = sorted(
+    p for p in (FIXTURES / "hostile").glob("*.toml") if "_ok_" not in p.name
+)
+
+
+@pytest.mark.parametrize("path", HOSTILE, ids=lambda p: p.name)
+def test_the_command_s_hostile_files_are_input_errors(path):
+    # The command's catalogue of malformed problem files (tests/hostile.rs: exit code 2).
+    with pytest.raises(wedged.InputError) as e:
+        wedged.load(path).enumerate(time_limit=5)
+    assert "\n" not in str(e.value) and str(e.value)
