@@ -2,35 +2,41 @@
 //!
 //! Thin by design: it turns NumPy arrays into the library's matrices, runs the same jobs as
 //! the command (`wedged_cli::jobs`: options checked, the run, errors sorted into bad input and
-//! internal failures) and hands back the command's JSON document, from which
-//! `python/wedged/__init__.py` builds its result objects. So the library, the command and
-//! Python give the same answer, number for number (the JSON writes each `f64` exactly).
+//! internal failures) and hands back the command's report: for an enumeration its parts as
+//! arrays taken from the report the JSON is written from ([`EnumerationRun`], the JSON itself
+//! on demand), for `critical` its JSON document (one witness: small). So the library, the
+//! command and Python give the same answer, number for number.
 //!
 //! Every run leaves the GIL to a worker thread and polls Python's signals every
 //! [`POLL`]: Ctrl-C sets the run's cancel flag, waits for it to stop, and raises
 //! `KeyboardInterrupt`.
 
+use std::collections::HashMap;
 use std::panic::{self, AssertUnwindSafe};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Condvar, Mutex};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use nalgebra::DMatrix;
 use numpy::{
-    PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
+    PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+    PyUntypedArrayMethods,
 };
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyDict, PyList, PyString};
 use wedged::fe::{ElementKind, Model};
 use wedged::Problem;
 use wedged_cli::input::problem_file;
 use wedged_cli::jobs::{
-    self, CriticalMethodArg, CriticalOptions, EnumerateOptions, Failure, MethodArg, Show,
+    self, CriticalMethodArg, CriticalOptions, EnumerateOptions, Enumerated, Failure, MethodArg,
+    Show,
 };
 use wedged_cli::one_line;
+use wedged_cli::report::answer::Choice;
+use wedged_cli::report::json::Report;
 
 create_exception!(
     _wedged,
@@ -158,19 +164,20 @@ fn show(progress: bool) -> Show {
     }
 }
 
-/// Enumerates `problem` as `wedged enumerate` does and returns its JSON document.
+/// Enumerates `problem` as `wedged enumerate` does; `owner` is the loaded problem file of a
+/// meshed body (for the JSON's `model`).
 #[allow(clippy::too_many_arguments)]
-fn enumerate_json(
+fn enumerate_run(
     py: Python<'_>,
-    problem: &Problem,
-    model: Option<&Model>,
+    problem: Problem,
+    owner: Option<Py<LoadedProblem>>,
     source: &str,
     method: Option<&str>,
     time_limit: Option<f64>,
     certify: bool,
     zero_tol: Option<f64>,
     progress: bool,
-) -> PyResult<String> {
+) -> PyResult<EnumerationRun> {
     let options = EnumerateOptions {
         method: method_of(method)?,
         zero_tol,
@@ -178,14 +185,137 @@ fn enumerate_json(
         certify,
         ..EnumerateOptions::default()
     };
-    let choice = jobs::plan_enumerate(problem, source, &options).map_err(to_py)?;
-    released(py, |cancel| {
-        let run = jobs::enumerate(problem, &choice, source, certify, cancel, show(progress))?;
-        if let Some(failure) = run.certification_failure(source) {
-            return Err(failure);
+    let choice = jobs::plan_enumerate(&problem, source, &options).map_err(to_py)?;
+    let (run, library_seconds) = released(py, |cancel| {
+        let start = Instant::now();
+        let run = jobs::enumerate(&problem, &choice, source, certify, cancel, show(progress))?;
+        let seconds = start.elapsed().as_secs_f64();
+        match run.certification_failure(source) {
+            Some(failure) => Err(failure),
+            None => Ok((run, seconds)),
         }
-        Ok(run.json(problem, &choice, model))
+    })?;
+    Ok(EnumerationRun {
+        problem,
+        choice,
+        run,
+        owner,
+        library_seconds,
     })
+}
+
+/// A finished enumeration, kept whole: its parts as arrays ([`EnumerationRun::parts`]) and,
+/// when asked, the command's JSON document ([`EnumerationRun::to_json`]), written from the same
+/// report. (Writing and parsing the JSON of a few hundred rays took longer than the run.)
+#[pyclass(frozen, module = "wedged._wedged")]
+struct EnumerationRun {
+    problem: Problem,
+    choice: Choice,
+    run: Enumerated,
+    owner: Option<Py<LoadedProblem>>,
+    /// Wall-clock seconds of the library's run, on the worker thread: what the bindings add to
+    /// a call is the rest (scripts/bench_python.py).
+    #[pyo3(get)]
+    library_seconds: f64,
+}
+
+impl EnumerationRun {
+    fn model(&self) -> Option<&Model> {
+        self.owner.as_ref().and_then(|o| o.get().model.as_ref())
+    }
+}
+
+#[pymethods]
+impl EnumerationRun {
+    /// The JSON document of `wedged enumerate --json` for this run.
+    fn to_json(&self) -> String {
+        self.run.json(&self.problem, &self.choice, self.model())
+    }
+
+    /// The report's parts, as a dict: the scalars of the JSON's top level, `info` (its JSON
+    /// text), the rays as arrays `ray_u`, `ray_r` (one row per ray) and `ray_status`, the
+    /// cones' `cone_rays` and `cone_status`, and the pieces' `pattern_pattern`,
+    /// `pattern_status`, `pattern_u`, `pattern_r`, `pattern_margin`.
+    fn parts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let report = Report::new(&self.problem, &self.choice, &self.run.answer, self.model());
+        let certificate = self.run.certificate();
+        let n = self.problem.dim() * self.problem.nodes();
+        let rows = |vectors: Vec<&[f64]>| -> Bound<'py, PyArray2<f64>> {
+            let flat: Vec<f64> = vectors.iter().flat_map(|v| v.iter().copied()).collect();
+            PyArray1::from_vec(py, flat)
+                .reshape([vectors.len(), n])
+                .expect("n entries per row")
+        };
+        // Each status name made once and shared by every list (thousands of entries).
+        let mut names: HashMap<&'static str, Bound<'py, PyString>> = HashMap::new();
+        let mut names_of = |list: &[&'static str]| -> Vec<Bound<'py, PyString>> {
+            list.iter()
+                .map(|&name| {
+                    names
+                        .entry(name)
+                        .or_insert_with(|| PyString::intern(py, name))
+                        .clone()
+                })
+                .collect()
+        };
+        let mut statuses = |lists: Vec<&Vec<&'static str>>| -> Vec<Vec<Bound<'py, PyString>>> {
+            lists.into_iter().map(|l| names_of(l)).collect()
+        };
+        let out = PyDict::new(py);
+        out.set_item("dim", report.dim)?;
+        out.set_item("mu", report.mu)?;
+        out.set_item("nodes", report.nodes)?;
+        out.set_item("method", report.method)?;
+        out.set_item("outcome", report.outcome)?;
+        out.set_item("complete", report.complete)?;
+        out.set_item("stopped", report.stopped.clone())?;
+        out.set_item("certified", certificate.map(|c| c.certified()))?;
+        out.set_item("ray_u", rows(report.rays.iter().map(|r| r.u).collect()))?;
+        out.set_item("ray_r", rows(report.rays.iter().map(|r| r.r).collect()))?;
+        out.set_item(
+            "ray_status",
+            report
+                .rays
+                .iter()
+                .map(|r| r.status.clone())
+                .collect::<Vec<_>>(),
+        )?;
+        out.set_item(
+            "cone_rays",
+            report
+                .cones
+                .iter()
+                .map(|c| c.rays.to_vec())
+                .collect::<Vec<_>>(),
+        )?;
+        out.set_item(
+            "cone_status",
+            report
+                .cones
+                .iter()
+                .map(|c| c.status.clone())
+                .collect::<Vec<_>>(),
+        )?;
+        let pieces = &report.patterns;
+        out.set_item(
+            "pattern_pattern",
+            statuses(pieces.iter().map(|p| &p.pattern).collect()),
+        )?;
+        out.set_item(
+            "pattern_status",
+            statuses(pieces.iter().map(|p| &p.status).collect()),
+        )?;
+        out.set_item("pattern_u", rows(pieces.iter().map(|p| &p.u[..]).collect()))?;
+        out.set_item("pattern_r", rows(pieces.iter().map(|p| &p.r[..]).collect()))?;
+        out.set_item(
+            "pattern_margin",
+            pieces.iter().map(|p| p.margin).collect::<Vec<_>>(),
+        )?;
+        let info = serde_json::to_string(&report.info)
+            .map_err(|e| InternalError::new_err(format!("the run's info: {e}")))?;
+        out.set_item("info", info)?;
+        Ok(out)
+    }
 }
 
 /// Computes `mu*` as `wedged critical` does and returns its JSON document.
@@ -220,7 +350,7 @@ fn critical_json(
     })
 }
 
-/// `enumerate(K, mu, dim, method, time_limit, certify, zero_tol, progress)`: the JSON of
+/// `enumerate(K, mu, dim, method, time_limit, certify, zero_tol, progress)`: the run of
 /// `wedged enumerate` on the condensed stiffness `K`.
 #[pyfunction]
 #[pyo3(signature = (k, mu, dim=2, method=None, time_limit=None, certify=false, zero_tol=None, progress=false))]
@@ -235,10 +365,10 @@ fn enumerate(
     certify: bool,
     zero_tol: Option<f64>,
     progress: bool,
-) -> PyResult<String> {
+) -> PyResult<EnumerationRun> {
     let problem = matrix_problem(&k, dim, mu)?;
-    enumerate_json(
-        py, &problem, None, "K", method, time_limit, certify, zero_tol, progress,
+    enumerate_run(
+        py, problem, None, "K", method, time_limit, certify, zero_tol, progress,
     )
 }
 
@@ -307,41 +437,37 @@ impl LoadedProblem {
         self.model.is_some()
     }
 
-    /// The JSON of `wedged enumerate FILE [--mu MU]`.
+    /// The run of `wedged enumerate FILE [--mu MU]`.
     #[pyo3(signature = (mu=None, method=None, time_limit=None, certify=false, zero_tol=None, progress=false))]
     #[allow(clippy::too_many_arguments)]
     fn enumerate(
-        &self,
-        py: Python<'_>,
+        slf: &Bound<'_, Self>,
         mu: Option<f64>,
         method: Option<&str>,
         time_limit: Option<f64>,
         certify: bool,
         zero_tol: Option<f64>,
         progress: bool,
-    ) -> PyResult<String> {
-        let with_mu;
-        let problem = match (mu, self.mu_given) {
-            (Some(mu), _) => {
-                with_mu = self
-                    .problem
-                    .with_mu(mu)
-                    .map_err(|e| InputError::new_err(format!("mu: {e}")))?;
-                &with_mu
-            }
-            (None, true) => &self.problem,
+    ) -> PyResult<EnumerationRun> {
+        let this = slf.get();
+        let problem = match (mu, this.mu_given) {
+            (Some(mu), _) => this
+                .problem
+                .with_mu(mu)
+                .map_err(|e| InputError::new_err(format!("mu: {e}")))?,
+            (None, true) => this.problem.clone(),
             (None, false) => {
                 return Err(InputError::new_err(format!(
                     "{}: the file gives no mu; pass mu=...",
-                    self.source
+                    this.source
                 )))
             }
         };
-        enumerate_json(
-            py,
+        enumerate_run(
+            slf.py(),
             problem,
-            self.model.as_ref(),
-            &self.source,
+            Some(slf.clone().unbind()),
+            &this.source,
             method,
             time_limit,
             certify,
@@ -502,5 +628,6 @@ fn _wedged(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(critical, m)?)?;
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_class::<LoadedProblem>()?;
+    m.add_class::<EnumerationRun>()?;
     Ok(())
 }

@@ -18,7 +18,7 @@ EXAMPLES = ROOT / "examples"
 
 
 def wedged_bin() -> Path:
-    """The command built by scripts/test (`WEDGED_BIN` to use another)."""
+    """The command (`WEDGED_BIN`, which scripts/test sets; else the release build)."""
     path = Path(os.environ.get("WEDGED_BIN", ROOT / "target" / "release" / "wedged"))
     if not path.exists():
         pytest.fail(f"the wedged command is not built at {path}: run scripts/test, or set WEDGED_BIN")

@@ -14,7 +14,8 @@ certified bracket. :func:`load` reads the command's problem files (a condensed s
 meshed body).
 
 Results equal the command's (``wedged enumerate ... --json``, ``wedged critical ... --json``)
-number for number: the same library run, the same JSON document (``to_json()``). Vectors are
+number for number: the same library run, the same report, the same JSON document
+(``to_json()``). Vectors are
 normalised to ``sum r_n = 1``.
 
 Errors: bad input raises :class:`InputError` (a ``ValueError``) with the command's one-line
@@ -25,8 +26,10 @@ calls release the GIL and stop on Ctrl-C with ``KeyboardInterrupt``.
 from __future__ import annotations
 
 import json as _json
+
+# The module defines `enumerate`; the built-in is not used in it.
 from dataclasses import dataclass, field
-from typing import Any, List, Optional
+from typing import Any, List, NamedTuple, Optional
 
 import numpy as np
 
@@ -49,8 +52,7 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True)
-class Ray:
+class Ray(NamedTuple):
     """A complementary extreme ray (2D ray methods): ``K u = r`` with ``sum r_n = 1``.
 
     ``status[i]`` is node ``i``'s: ``separated``, ``stick``, ``slip+``, ``slip-`` or
@@ -62,8 +64,7 @@ class Ray:
     status: List[str]
 
 
-@dataclass(frozen=True)
-class Cone:
+class Cone(NamedTuple):
     """A maximal cone of wedged configurations (2D ray methods): every nonnegative
     combination of its ``rays`` (indices into :attr:`Enumeration.rays`) solves WP.
 
@@ -74,8 +75,7 @@ class Cone:
     status: List[str]
 
 
-@dataclass(frozen=True)
-class Pattern:
+class Pattern(NamedTuple):
     """A convex piece of the solution set: its contact ``pattern`` (``contact``,
     ``separated``, ``grazing`` per node), its sign pattern ``status`` (``separated``,
     ``stick``, ``slip``, ``slip+``, ``slip-``, ``grazing``) and a witness ``(u, r)`` in it.
@@ -117,41 +117,52 @@ class Enumeration:
     cones: List[Cone]
     patterns: List[Pattern]
     info: dict
-    _json: str = field(repr=False)
+    _run: Any = field(repr=False)
     _problem: Any = field(repr=False, default=None)
 
     @classmethod
-    def _from_json(cls, text: str, problem: Any = None) -> "Enumeration":
-        doc = _json.loads(text)
+    def _from_run(cls, run: Any, problem: Any = None) -> "Enumeration":
+        parts = run.parts()
+        # One row per ray or piece; read-only, as the result is.
+        for key in ("ray_u", "ray_r", "pattern_u", "pattern_r"):
+            parts[key].flags.writeable = False
+        # Rows as views, made in one pass each (NamedTuples: the cheapest immutable records).
+        ray_u, ray_r = list(parts["ray_u"]), list(parts["ray_r"])
+        pattern_u, pattern_r = list(parts["pattern_u"]), list(parts["pattern_r"])
         return cls(
-            complete=doc["complete"],
-            outcome=doc["outcome"],
-            method=doc["method"],
-            mu=doc["mu"],
-            dim=doc["dim"],
-            nodes=doc["nodes"],
-            stopped=doc["stopped"],
-            certified=doc["certified"],
-            rays=[Ray(_vector(x["u"]), _vector(x["r"]), list(x["status"])) for x in doc["rays"]],
-            cones=[Cone(list(x["rays"]), list(x["status"])) for x in doc["cones"]],
-            patterns=[
-                Pattern(
-                    list(x["pattern"]),
-                    list(x["status"]),
-                    _vector(x["u"]),
-                    _vector(x["r"]),
-                    x["margin"],
+            complete=parts["complete"],
+            outcome=parts["outcome"],
+            method=parts["method"],
+            mu=parts["mu"],
+            dim=parts["dim"],
+            nodes=parts["nodes"],
+            stopped=parts["stopped"],
+            certified=parts["certified"],
+            rays=list(map(Ray, ray_u, ray_r, parts["ray_status"])),
+            cones=list(map(Cone, parts["cone_rays"], parts["cone_status"])),
+            patterns=list(
+                map(
+                    Pattern,
+                    parts["pattern_pattern"],
+                    parts["pattern_status"],
+                    pattern_u,
+                    pattern_r,
+                    parts["pattern_margin"],
                 )
-                for x in doc["patterns"]
-            ],
-            info=doc["info"],
-            _json=text,
+            ),
+            info=_json.loads(parts["info"]),
+            _run=run,
             _problem=problem,
         )
 
     def to_json(self) -> str:
         """The JSON document of ``wedged enumerate --json`` for the same run."""
-        return self._json
+        return self._run.to_json()
+
+    @property
+    def library_seconds(self) -> float:
+        """Wall-clock seconds of the library's run (the rest of a call is the bindings')."""
+        return self._run.library_seconds
 
     def to_meshio(self, i: int):
         """Piece ``i`` (``patterns[i]``, the files ``cone-N``/``pattern-N`` of the command,
@@ -263,7 +274,7 @@ def enumerate(
     raises :class:`InternalError`); ``progress`` draws the command's progress line on
     stderr once the run has lasted a second.
     """
-    text = _wedged.enumerate(
+    run = _wedged.enumerate(
         _matrix(K),
         _number("mu", mu),
         dim=int(dim),
@@ -273,7 +284,7 @@ def enumerate(
         zero_tol=_number("zero_tol", zero_tol),
         progress=bool(progress),
     )
-    return Enumeration._from_json(text)
+    return Enumeration._from_run(run)
 
 
 def critical(
@@ -335,8 +346,8 @@ class Problem:
 
     def enumerate(self, *, mu: Optional[float] = None, **kw: Any) -> Enumeration:
         """As :func:`enumerate`, at the file's ``mu`` unless ``mu`` is given."""
-        text = self._loaded.enumerate(mu=_number("mu", mu), **kw)
-        return Enumeration._from_json(text, self if self.is_mesh else None)
+        run = self._loaded.enumerate(mu=_number("mu", mu), **kw)
+        return Enumeration._from_run(run, self if self.is_mesh else None)
 
     def critical(self, **kw: Any) -> Critical:
         """As :func:`critical`."""

@@ -1,7 +1,8 @@
 """Type stubs of the extension module `wedged._wedged` (the Rust side of `wedged`).
 
-Each run returns the command's JSON document; `wedged/__init__.py` builds the result objects
-from it. Use the functions of `wedged`, not these.
+An enumeration returns its run (arrays, and the command's JSON on demand); `critical` returns
+the command's JSON document. `wedged/__init__.py` builds the result objects from them. Use the
+functions of `wedged`, not these.
 """
 
 from typing import Any, Dict, Optional, Tuple
@@ -17,6 +18,14 @@ class InputError(ValueError):
 class InternalError(RuntimeError):
     """A failed internal check, a bug in wedged (the command's exit code 1)."""
 
+class EnumerationRun:
+    """A finished enumeration: its parts as arrays, its JSON on demand."""
+
+    library_seconds: float
+
+    def to_json(self) -> str: ...
+    def parts(self) -> Dict[str, Any]: ...
+
 def enumerate(
     k: npt.NDArray[np.float64],
     mu: float,
@@ -26,7 +35,7 @@ def enumerate(
     certify: bool = False,
     zero_tol: Optional[float] = None,
     progress: bool = False,
-) -> str: ...
+) -> EnumerationRun: ...
 def critical(
     k: npt.NDArray[np.float64],
     dim: int = 2,
@@ -57,7 +66,7 @@ class LoadedProblem:
         certify: bool = False,
         zero_tol: Optional[float] = None,
         progress: bool = False,
-    ) -> str: ...
+    ) -> EnumerationRun: ...
     def critical(
         self,
         method: Optional[str] = None,
