@@ -286,6 +286,31 @@ pub fn enumerate(
     })
 }
 
+/// Runs `work` with the live progress line on stderr: `text` makes the line of a progress
+/// report and the seconds so far; it is drawn when `show` says, once the run has lasted a
+/// second, and ended with a newline when it was drawn.
+fn with_line<P, T>(
+    show: Show,
+    text: impl Fn(P, f64) -> String,
+    work: impl FnOnce(&dyn Fn(P)) -> T,
+) -> T {
+    let start = std::time::Instant::now();
+    let live = show.live();
+    let shown = std::cell::Cell::new(false);
+    let progress = |p: P| {
+        let seconds = start.elapsed().as_secs_f64();
+        if live && seconds > 1.0 {
+            eprint!("\r  {}   ", text(p, seconds));
+            shown.set(true);
+        }
+    };
+    let result = work(&progress);
+    if shown.get() {
+        eprintln!();
+    }
+    result
+}
+
 /// Runs the enumeration and sorts its errors into bad input and internal failures.
 /// `cancel` stops the run (it then returns what it found, marked incomplete); `show` says when
 /// the live progress line is drawn.
@@ -296,30 +321,16 @@ pub fn run_library(
     cancel: &AtomicBool,
     show: Show,
 ) -> Result<Answer, Failure> {
-    let start = std::time::Instant::now();
-    let live = show.live();
-    let shown = std::cell::Cell::new(false);
-    let progress = |p: Progress| {
-        if live && start.elapsed().as_secs_f64() > 1.0 {
-            eprint!(
-                "\r  {}   ",
-                progress_text(choice, p, start.elapsed().as_secs_f64())
-            );
-            shown.set(true);
-        }
-    };
-    let result = match choice {
+    let text = |p: Progress, seconds: f64| progress_text(choice, p, seconds);
+    let result = with_line(show, text, |progress| match choice {
         Choice::Rays(settings) => {
-            enumerate_with_control(problem, settings, &progress, cancel).map(Answer::Rays)
+            enumerate_with_control(problem, settings, progress, cancel).map(Answer::Rays)
         }
         Choice::Patterns(settings) => {
-            enumerate_patterns_with_control(problem, settings, &progress, cancel)
+            enumerate_patterns_with_control(problem, settings, progress, cancel)
                 .map(Answer::Patterns)
         }
-    };
-    if shown.get() {
-        eprintln!();
-    }
+    });
     result.map_err(|e| match e {
         EnumerateError::UnsupportedDim(d) => Failure::Input(format!(
             "{source}: dim = {d}: --method {} needs a 2D problem; use --method bnb or pyramid",
@@ -456,22 +467,9 @@ pub fn run_critical_library(
     cancel: &AtomicBool,
     show: Show,
 ) -> Result<Critical, Failure> {
-    let start = std::time::Instant::now();
-    let live = show.live();
-    let shown = std::cell::Cell::new(false);
-    let progress = |p: CriticalProgress| {
-        if live && start.elapsed().as_secs_f64() > 1.0 {
-            eprint!(
-                "\r  {}   ",
-                critical_progress_text(p, start.elapsed().as_secs_f64())
-            );
-            shown.set(true);
-        }
-    };
-    let result = critical_with_control(problem, settings, &progress, cancel);
-    if shown.get() {
-        eprintln!();
-    }
+    let result = with_line(show, critical_progress_text, |progress| {
+        critical_with_control(problem, settings, progress, cancel)
+    });
     result.map_err(|e| match e {
         EnumerateError::InvalidSettings(m) => Failure::Input(format!("invalid option: {m}")),
         e @ EnumerateError::UnsupportedDim(_) => Failure::Input(format!("{source}: {e}")),
