@@ -274,11 +274,7 @@ impl EnumerationRun {
         out.set_item("ray_r", rows(report.rays.iter().map(|r| r.r).collect()))?;
         out.set_item(
             "ray_status",
-            report
-                .rays
-                .iter()
-                .map(|r| r.status.clone())
-                .collect::<Vec<_>>(),
+            statuses(report.rays.iter().map(|r| &r.status).collect()),
         )?;
         out.set_item(
             "cone_rays",
@@ -290,11 +286,7 @@ impl EnumerationRun {
         )?;
         out.set_item(
             "cone_status",
-            report
-                .cones
-                .iter()
-                .map(|c| c.status.clone())
-                .collect::<Vec<_>>(),
+            statuses(report.cones.iter().map(|c| &c.status).collect()),
         )?;
         let pieces = &report.patterns;
         out.set_item(
