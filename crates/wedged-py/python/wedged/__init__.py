@@ -319,6 +319,7 @@ class Problem:
 
     def __init__(self, loaded: Any):
         self._loaded = loaded
+        self._mesh: Optional[dict] = None
 
     @property
     def K(self) -> np.ndarray:
@@ -360,12 +361,17 @@ class Problem:
         order of ``K``), ``frames`` (``m x dim x dim``, each contact node's axes, normal
         first: the inward normal of the body; ``K``'s local frames) and ``clamped`` (the mesh
         nodes held fixed)."""
-        return self._loaded.mesh()
+        if self._mesh is None:
+            # Made once per problem (every to_meshio uses it); read-only, since it is shared.
+            self._mesh = self._loaded.mesh()
+            for key in ("points", "contact_nodes", "frames", "clamped"):
+                self._mesh[key].flags.writeable = False
+        return self._mesh
 
     def _to_meshio(self, u: np.ndarray):
         import meshio
 
-        mesh = self._loaded.mesh()
+        mesh = self.mesh()
         points, cells = mesh["points"], mesh["cells"]
         displacement, force, stress, von_mises = self._loaded.recover(np.ascontiguousarray(u))
         sizes = [len(block) for _, block in cells]
