@@ -86,6 +86,14 @@ pub(crate) enum Command {
         after_long_help = format!("{CRITICAL_HELP}\n\n{PROBLEM_FILE}\n\n{EXIT_CODES}")
     )]
     Sweep(SweepArgs),
+    /// The critical friction coefficient over a grid of the problem file's parameters
+    /// (notch half-angle, Poisson's ratio, mesh refinement, any number in the file): a CSV, a
+    /// plot and, for mesh studies, the limit h -> 0; resumable
+    #[command(
+        after_help = EXIT_CODES,
+        after_long_help = format!("{STUDY_HELP}\n\n{CRITICAL_HELP}\n\n{EXIT_CODES}")
+    )]
+    Study(StudyArgs),
     /// Run the built-in example: a 2D plug wedged in a V-notch, with JSON, VTU and SVG output,
     /// and its critical friction coefficient.
     #[command(after_help = EXIT_CODES)]
@@ -126,6 +134,57 @@ pub(crate) struct SweepArgs {
 }
 
 /// The options that `critical` and `sweep` share.
+pub(crate) const STUDY_HELP: &str = "\
+A study computes mu* at every point of a grid and writes DIR/study.csv (one row per point,
+rewritten after each point), DIR/study.svg (mu* against --x, a line per combination of the
+other parameters) and, with --vtk, DIR/point-N.vtu (the witness at mu* of point N) and
+DIR/study.pvd (their ParaView collection). Run the same command again to resume: complete
+points are read back from study.csv; incomplete ones (a time limit, Ctrl-C) are computed again.
+
+--vary KEY=V1,V2,... or KEY=FROM:TO:COUNT, repeated for a grid (every combination). KEY is a
+number the problem file sets, dotted: material.poisson, mesh.generate.ny, mu is not one (mu*
+does not depend on it). Two derived keys for a generated body ([mesh.generate]):
+  half_angle   the notch half-angle in degrees from the vertical: sets top_width =
+               bottom_width + 2 height tan(half_angle)
+  refine       a whole factor multiplying its division counts (nx, ny, nz, n)
+With refine (or a division count) first, the plot is against the mesh size h, and the
+summary extrapolates mu* to h = 0 (Richardson, through the three finest meshes).
+
+  wedged study examples/plug2d.toml --vary refine=1,2,3,4 --out plug-study
+  wedged study examples/plug2d.toml --vary half_angle=15:45:7 --vary material.poisson=0.2,0.3 \\
+      --out angles --time-limit 60";
+
+#[derive(Debug, Args)]
+pub(crate) struct StudyArgs {
+    /// Problem file (TOML) whose numbers the study varies
+    pub(crate) problem: PathBuf,
+    /// KEY=V1,V2,... or KEY=FROM:TO:COUNT (COUNT values, both ends included); repeat for a
+    /// grid. See --help for the keys
+    #[arg(long = "vary", value_name = "KEY=VALUES", required = true,
+          value_parser = wedged_cli::study::parse_vary)]
+    pub(crate) vary: Vec<wedged_cli::study::Parameter>,
+    /// Output directory (created): study.csv, study.svg, and with --vtk point-N.vtu and
+    /// study.pvd
+    #[arg(long, value_name = "DIR")]
+    pub(crate) out: PathBuf,
+    /// The plot's x axis: one of the varied keys, or h (the mesh size). Default: h when the
+    /// first varied key refines the mesh, else the first varied key
+    #[arg(long = "x", value_name = "KEY")]
+    pub(crate) x: Option<String>,
+    /// Also write each point's witness as DIR/point-N.vtu and their collection DIR/study.pvd
+    #[arg(long)]
+    pub(crate) vtk: bool,
+    /// Search method at each point: bnb (default), enumerate or faces
+    #[arg(long, value_name = "METHOD")]
+    pub(crate) method: Option<CriticalMethodArg>,
+    /// Certify each point's bracket exactly (as `critical --certify`)
+    #[arg(long)]
+    pub(crate) certify: bool,
+    /// --tol as for `critical`; --time-limit applies to each point
+    #[command(flatten)]
+    pub(crate) common: CriticalCommon,
+}
+
 #[derive(Debug, Args)]
 pub(crate) struct CriticalCommon {
     /// Relative width asked of the bracket of mu*, from 1e-12 to 0.1 [default: 1e-9].

@@ -6,10 +6,15 @@
 //! corpus regression test (`tests/fuzz_corpus.rs`) call their in-memory entry points
 //! ([`input::mtx::parse_bytes`], [`input::msh::parse`], [`input::problem_file::parse_str`]) directly. On any input
 //! these return an error, one line that names the source, and never panic.
+//!
+//! Besides the readers: [`jobs`] (a run made from options, as the command and the Python
+//! bindings both make it), [`report`] (the summaries, the JSON and the output files) and
+//! [`study`] (the grid, CSV and extrapolation of `wedged study`).
 
 pub mod input;
 pub mod jobs;
 pub mod report;
+pub mod study;
 
 use std::cell::Cell;
 use std::panic::{self, AssertUnwindSafe};

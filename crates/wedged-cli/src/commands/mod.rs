@@ -1,16 +1,18 @@
-//! One file per subcommand: `enumerate` (and its report), `critical` and `sweep`, `condense`,
-//! `demo`. This file holds what they share: [`Failure`] (which decides the exit code), the
+//! One file per subcommand: `enumerate` (and its report), `critical` and `sweep`, `study`,
+//! `condense`, `demo`. This file holds what they share: [`Failure`] (which decides the exit code), the
 //! dispatch [`run`], the cancel flag set by Ctrl-C, the time limit, and stdout.
 
 mod condense;
 mod critical;
 mod demo;
 mod enumerate;
+mod study;
 
 use condense::*;
 use critical::*;
 use demo::*;
 use enumerate::*;
+use study::*;
 
 use std::io::{self, Write};
 use std::sync::atomic::AtomicBool;
@@ -25,6 +27,7 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
         Command::Condense(args) => run_condense(args),
         Command::Critical(args) => run_critical(args),
         Command::Sweep(args) => run_sweep(args),
+        Command::Study(args) => run_study(args),
         Command::Demo(args) => run_demo(args),
     }
 }

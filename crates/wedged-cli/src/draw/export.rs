@@ -100,7 +100,7 @@ pub fn write_pieces(
 
 /// A ParaView collection (`.pvd`) of `files` (in one directory, named relative to it), file
 /// `N` at time step `N`.
-fn collection(files: &[&PathBuf]) -> String {
+pub fn collection(files: &[&PathBuf]) -> String {
     let mut out = String::from(
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" \
          byte_order=\"LittleEndian\">\n  <Collection>\n",

@@ -84,7 +84,7 @@ fn message_page(title: &str, lines: &[&str]) -> String {
 }
 
 /// Ticks at 1, 2 or 5 times a power of ten, about `target` of them, within `[lo, hi]`.
-fn nice_ticks(lo: f64, hi: f64, target: usize) -> (Vec<f64>, f64) {
+pub(crate) fn nice_ticks(lo: f64, hi: f64, target: usize) -> (Vec<f64>, f64) {
     let span = hi - lo;
     if !(span > 0.0 && span.is_finite()) {
         return (vec![lo], 1.0);
@@ -108,7 +108,7 @@ fn nice_ticks(lo: f64, hi: f64, target: usize) -> (Vec<f64>, f64) {
 }
 
 /// A tick label with the decimals its step needs.
-fn tick_label(v: f64, step: f64) -> String {
+pub(crate) fn tick_label(v: f64, step: f64) -> String {
     let decimals = (-step.log10().floor()).max(0.0) as usize;
     let s = format!("{v:.decimals$}");
     if s.starts_with('-') && s.trim_start_matches(['-', '0', '.']).is_empty() {

@@ -1,0 +1,640 @@
+//! `wedged study`: `mu*` over a grid of a problem file's parameters. This module holds what is
+//! not the command's own running, so that it can be tested alone: the grid (`--vary`), a grid
+//! point applied to the problem file's TOML, the CSV rows (written, and read back to resume),
+//! the mesh size `h` of a model, and the extrapolation of a mesh-convergence series.
+//!
+//! A parameter is a key of the problem file, dotted (`material.poisson`,
+//! `mesh.generate.ny`), which must already be in the file (so that a misspelt key is an error,
+//! not a silent no-op), or one of two derived parameters of a generated body:
+//!
+//! - `half_angle`: the notch half-angle in degrees, from the vertical; it sets `top_width =
+//!   bottom_width + 2 height tan(half_angle)` (`plug2d`, `vgroove3d`, `frustum3d`);
+//! - `refine`: a whole factor multiplying every division count of `[mesh.generate]` (`nx`,
+//!   `ny`, `nz`, `n`), for mesh-convergence studies.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use toml::{Table, Value};
+use wedged::fe::Mesh;
+
+/// One `--vary` option: a key and its values, in the order given.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parameter {
+    /// The dotted key, or `half_angle` or `refine`.
+    pub key: String,
+    /// The values, as written (integers stay integers in the file when the key is one).
+    pub values: Vec<f64>,
+}
+
+/// The derived parameters (module docs).
+pub const HALF_ANGLE: &str = "half_angle";
+/// The refinement factor (module docs).
+pub const REFINE: &str = "refine";
+/// The division counts `refine` multiplies.
+const DIVISIONS: [&str; 4] = ["nx", "ny", "nz", "n"];
+/// Whether varying `key` changes the mesh size: `refine` or a division count of
+/// `[mesh.generate]`.
+pub fn refines(key: &str) -> bool {
+    key == REFINE
+        || key
+            .strip_prefix("mesh.generate.")
+            .is_some_and(|d| DIVISIONS.contains(&d))
+}
+
+/// The most points a grid may have (a typo such as `0:1:10000` should not start a week's run).
+pub const MAX_POINTS: usize = 10_000;
+
+/// Parses `KEY=V1,V2,...` or `KEY=A:B:N` (`N` values from `A` to `B`, both included).
+pub fn parse_vary(spec: &str) -> Result<Parameter, String> {
+    let (key, values) = spec
+        .split_once('=')
+        .ok_or_else(|| format!("--vary {spec:?}: expected KEY=V1,V2,... or KEY=FROM:TO:COUNT"))?;
+    let key = key.trim();
+    if key.is_empty()
+        || !key
+            .split('.')
+            .all(|part| !part.is_empty() && part.chars().all(|c| c.is_alphanumeric() || c == '_'))
+    {
+        return Err(format!(
+            "--vary {spec:?}: {key:?} is not a key (dotted words, such as material.poisson)"
+        ));
+    }
+    let number = |text: &str| -> Result<f64, String> {
+        match text.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => Err(format!(
+                "--vary {key}: {:?} is not a finite number",
+                text.trim()
+            )),
+        }
+    };
+    let values = if values.contains(':') {
+        let parts: Vec<&str> = values.split(':').collect();
+        if parts.len() != 3 {
+            return Err(format!(
+                "--vary {key}: a range is FROM:TO:COUNT, got {values:?}"
+            ));
+        }
+        let (from, to) = (number(parts[0])?, number(parts[1])?);
+        let count: usize = parts[2]
+            .trim()
+            .parse()
+            .ok()
+            .filter(|&c| c >= 1)
+            .ok_or_else(|| {
+                format!(
+                    "--vary {key}: the count {:?} is not a positive whole number",
+                    parts[2]
+                )
+            })?;
+        if count > MAX_POINTS {
+            return Err(format!(
+                "--vary {key}: {count} values; at most {MAX_POINTS}"
+            ));
+        }
+        if count == 1 {
+            if from != to {
+                return Err(format!(
+                    "--vary {key}: one value from {from} to {to}; give COUNT >= 2 or one value"
+                ));
+            }
+            vec![from]
+        } else {
+            (0..count)
+                .map(|k| {
+                    let t = k as f64 / (count - 1) as f64;
+                    // The ends exactly as written.
+                    if k == count - 1 {
+                        to
+                    } else {
+                        from + t * (to - from)
+                    }
+                })
+                .collect()
+        }
+    } else {
+        values
+            .split(',')
+            .map(number)
+            .collect::<Result<Vec<_>, _>>()?
+    };
+    for (k, v) in values.iter().enumerate() {
+        if values[..k].contains(v) {
+            return Err(format!("--vary {key}: the value {v} is given twice"));
+        }
+    }
+    Ok(Parameter {
+        key: key.to_string(),
+        values,
+    })
+}
+
+/// The grid: every combination of the parameters' values, the first parameter varying
+/// slowest. Checks that no key is given twice and that the grid is not absurdly large.
+pub fn points(parameters: &[Parameter]) -> Result<Vec<Vec<f64>>, String> {
+    for (k, p) in parameters.iter().enumerate() {
+        if parameters[..k].iter().any(|q| q.key == p.key) {
+            return Err(format!("--vary {}: the key is given twice", p.key));
+        }
+    }
+    let total = parameters
+        .iter()
+        .try_fold(1usize, |n, p| n.checked_mul(p.values.len()))
+        .filter(|&n| n <= MAX_POINTS)
+        .ok_or_else(|| format!("the grid has more than {MAX_POINTS} points"))?;
+    let mut out = Vec::with_capacity(total);
+    for mut index in 0..total {
+        let mut point = vec![0.0; parameters.len()];
+        for (j, p) in parameters.iter().enumerate().rev() {
+            point[j] = p.values[index % p.values.len()];
+            index /= p.values.len();
+        }
+        out.push(point);
+    }
+    Ok(out)
+}
+
+/// A value as the CSV and the messages write it: the shortest text that reads back as the same
+/// `f64` (`0.3`, `16`).
+pub fn value_text(v: f64) -> String {
+    format!("{v}")
+}
+
+/// The problem file's table with one grid point applied. Errors name the key and the reason
+/// (the key is not in the file, a whole number was expected, a derived parameter does not
+/// apply to this body).
+pub fn apply(base: &Table, parameters: &[Parameter], point: &[f64]) -> Result<Table, String> {
+    let mut table = base.clone();
+    for (p, &v) in parameters.iter().zip(point) {
+        match p.key.as_str() {
+            HALF_ANGLE => set_half_angle(&mut table, v)?,
+            REFINE => refine(&mut table, v)?,
+            key => set_key(&mut table, key, v)?,
+        }
+    }
+    Ok(table)
+}
+
+fn generate_table<'t>(table: &'t mut Table, what: &str) -> Result<&'t mut Table, String> {
+    table
+        .get_mut("mesh")
+        .and_then(Value::as_table_mut)
+        .and_then(|m| m.get_mut("generate"))
+        .and_then(Value::as_table_mut)
+        .ok_or_else(|| {
+            format!(
+                "--vary {what}: applies to a generated body ([mesh.generate]); this file has none"
+            )
+        })
+}
+
+fn set_half_angle(table: &mut Table, degrees: f64) -> Result<(), String> {
+    if !(degrees > -90.0 && degrees < 90.0) {
+        return Err(format!(
+            "--vary {HALF_ANGLE} = {degrees}: a half-angle in degrees must lie strictly between -90 and 90"
+        ));
+    }
+    let generate = generate_table(table, HALF_ANGLE)?;
+    let number = |g: &Table, key: &str| -> Result<f64, String> {
+        g.get(key)
+            .and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)))
+            .ok_or_else(|| format!("--vary {HALF_ANGLE}: [mesh.generate] has no number {key}"))
+    };
+    let bottom = number(generate, "bottom_width")?;
+    let height = number(generate, "height")?;
+    let top = bottom + 2.0 * height * degrees.to_radians().tan();
+    if top <= 0.0 {
+        return Err(format!(
+            "--vary {HALF_ANGLE} = {degrees}: the top width would be {top} (not positive)"
+        ));
+    }
+    generate.insert("top_width".to_string(), Value::Float(top));
+    Ok(())
+}
+
+fn refine(table: &mut Table, factor: f64) -> Result<(), String> {
+    if factor < 1.0 || factor.fract() != 0.0 || factor > 1e6 {
+        return Err(format!(
+            "--vary {REFINE} = {factor}: the refinement factor is a whole number >= 1"
+        ));
+    }
+    let generate = generate_table(table, REFINE)?;
+    let mut any = false;
+    for key in DIVISIONS {
+        if let Some(Value::Integer(n)) = generate.get(key) {
+            let refined = n.saturating_mul(factor as i64);
+            generate.insert(key.to_string(), Value::Integer(refined));
+            any = true;
+        }
+    }
+    if any {
+        Ok(())
+    } else {
+        Err(format!(
+            "--vary {REFINE}: [mesh.generate] has no division counts"
+        ))
+    }
+}
+
+fn set_key(table: &mut Table, key: &str, v: f64) -> Result<(), String> {
+    let mut parts = key.split('.').peekable();
+    let mut here = table;
+    while let Some(part) = parts.next() {
+        if parts.peek().is_none() {
+            let slot = here.get_mut(part).ok_or_else(|| {
+                format!("--vary {key}: the problem file has no such key (a study changes keys the file sets)")
+            })?;
+            *slot = match slot {
+                Value::Integer(_) if v.fract() == 0.0 && v.abs() < 9e15 => Value::Integer(v as i64),
+                Value::Integer(_) => {
+                    return Err(format!(
+                    "--vary {key} = {v}: the file's value is a whole number, and so must this be"
+                ))
+                }
+                Value::Float(_) => Value::Float(v),
+                other => {
+                    return Err(format!(
+                        "--vary {key}: the file's value is {}, not a number",
+                        other.type_str()
+                    ))
+                }
+            };
+            return Ok(());
+        }
+        here = here
+            .get_mut(part)
+            .and_then(Value::as_table_mut)
+            .ok_or_else(|| format!("--vary {key}: the problem file has no table {part:?} there"))?;
+    }
+    unreachable!("a key has at least one part")
+}
+
+/// The mesh size `h`: the largest distance between two nodes of one element.
+pub fn mesh_size(mesh: &Mesh) -> f64 {
+    let coords = mesh.coords();
+    let mut h: f64 = 0.0;
+    for element in mesh.elements() {
+        for (a, &i) in element.nodes.iter().enumerate() {
+            for &j in &element.nodes[a + 1..] {
+                let d: f64 = (0..3)
+                    .map(|k| (coords[i][k] - coords[j][k]).powi(2))
+                    .sum::<f64>()
+                    .sqrt();
+                h = h.max(d);
+            }
+        }
+    }
+    h
+}
+
+/// One computed grid point, a line of `study.csv`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    /// The parameters' values as [`value_text`] writes them (the key that finds a point again).
+    pub values: Vec<String>,
+    /// Contact nodes.
+    pub m: usize,
+    /// Mesh size ([`mesh_size`]); `None` for a `[stiffness]` problem.
+    pub h: Option<f64>,
+    /// `wedged`, `never` or `incomplete`.
+    pub status: String,
+    /// `mu*` (the bracket's upper end), when wedged.
+    pub mu_star: Option<f64>,
+    /// The certified lower end.
+    pub lower: Option<f64>,
+    /// The upper end (a checked wedged configuration).
+    pub upper: Option<f64>,
+    /// Whether the point's run completed.
+    pub complete: bool,
+    /// The run's seconds (condensation included).
+    pub seconds: f64,
+}
+
+/// The columns after the parameters.
+const RESULT_COLUMNS: [&str; 8] = [
+    "m", "h", "status", "mu_star", "lower", "upper", "complete", "seconds",
+];
+
+/// The CSV's header line for these parameters.
+pub fn header(parameters: &[Parameter]) -> String {
+    let mut columns: Vec<&str> = parameters.iter().map(|p| p.key.as_str()).collect();
+    columns.extend(RESULT_COLUMNS);
+    columns.join(",")
+}
+
+fn opt(v: Option<f64>) -> String {
+    v.map(|x| format!("{x}")).unwrap_or_default()
+}
+
+/// The whole CSV: the header, then the rows.
+pub fn csv(parameters: &[Parameter], rows: &[Row]) -> String {
+    let mut out = header(parameters);
+    out.push('\n');
+    for row in rows {
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{:.3}",
+            row.values.join(","),
+            row.m,
+            opt(row.h),
+            row.status,
+            opt(row.mu_star),
+            opt(row.lower),
+            opt(row.upper),
+            row.complete,
+            row.seconds
+        );
+    }
+    out
+}
+
+/// Reads a `study.csv` back: its rows, by their parameter values. The header must be this
+/// study's (same keys in the same order), so that a study never resumes from another's file.
+pub fn read_csv(
+    text: &str,
+    parameters: &[Parameter],
+) -> Result<BTreeMap<Vec<String>, Row>, String> {
+    let mut lines = text.lines();
+    let expected = header(parameters);
+    match lines.next() {
+        Some(h) if h.trim_end() == expected => {}
+        Some(h) => {
+            return Err(format!(
+                "its header is {h:?}, and this study's would be {expected:?}; use another \
+                 output directory or remove the file"
+            ))
+        }
+        None => return Ok(BTreeMap::new()),
+    }
+    let k = parameters.len();
+    let mut rows = BTreeMap::new();
+    for (n, line) in lines.enumerate() {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let bad = |what: &str| format!("line {}: {what}", n + 2);
+        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        if fields.len() != k + RESULT_COLUMNS.len() {
+            return Err(bad(&format!(
+                "{} fields, expected {}",
+                fields.len(),
+                k + RESULT_COLUMNS.len()
+            )));
+        }
+        let number = |s: &str, what: &str| -> Result<Option<f64>, String> {
+            if s.is_empty() {
+                Ok(None)
+            } else {
+                s.parse::<f64>()
+                    .map(Some)
+                    .map_err(|_| bad(&format!("{what} {s:?} is not a number")))
+            }
+        };
+        let values: Vec<String> = fields[..k].iter().map(|s| s.to_string()).collect();
+        let r = &fields[k..];
+        let row = Row {
+            values: values.clone(),
+            m: r[0].parse().map_err(|_| bad("m is not a whole number"))?,
+            h: number(r[1], "h")?,
+            status: r[2].to_string(),
+            mu_star: number(r[3], "mu_star")?,
+            lower: number(r[4], "lower")?,
+            upper: number(r[5], "upper")?,
+            complete: match r[6] {
+                "true" => true,
+                "false" => false,
+                _ => return Err(bad("complete is neither true nor false")),
+            },
+            seconds: number(r[7], "seconds")?.unwrap_or(0.0),
+        };
+        rows.insert(values, row);
+    }
+    Ok(rows)
+}
+
+/// `mu*(h) = limit + c h^order` through the three finest points of a convergence series.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Extrapolation {
+    /// The extrapolated value at `h = 0`.
+    pub limit: f64,
+    /// The observed order of convergence.
+    pub order: f64,
+    /// `c`.
+    pub coefficient: f64,
+}
+
+/// Richardson extrapolation through the three finest points (`(h, mu*)`, any order): the
+/// order `p` solves `(f1 - f2) / (f2 - f3) = (h1^p - h2^p) / (h2^p - h3^p)` for `h1 > h2 > h3`
+/// (bisection on `p` in `[0.05, 10]`, where the right side grows with `p`). `None` when there
+/// are fewer than three distinct sizes, or the values do not converge monotonically (the
+/// differences change sign, or the observed order leaves that range).
+pub fn extrapolate(series: &[(f64, f64)]) -> Option<Extrapolation> {
+    let mut points: Vec<(f64, f64)> = series
+        .iter()
+        .copied()
+        .filter(|(h, f)| h.is_finite() && *h > 0.0 && f.is_finite())
+        .collect();
+    points.sort_by(|a, b| b.0.total_cmp(&a.0));
+    points.dedup_by(|a, b| a.0 == b.0);
+    if points.len() < 3 {
+        return None;
+    }
+    let [(h1, f1), (h2, f2), (h3, f3)] = [
+        points[points.len() - 3],
+        points[points.len() - 2],
+        points[points.len() - 1],
+    ];
+    let (d12, d23) = (f1 - f2, f2 - f3);
+    if d23 == 0.0 {
+        // Already converged to the last digit: the limit is the finest value.
+        return (d12 == 0.0).then_some(Extrapolation {
+            limit: f3,
+            order: f64::NAN,
+            coefficient: 0.0,
+        });
+    }
+    let target = d12 / d23;
+    if target <= 0.0 {
+        return None;
+    }
+    let ratio = |p: f64| (h1.powf(p) - h2.powf(p)) / (h2.powf(p) - h3.powf(p));
+    let (mut lo, mut hi) = (0.05_f64, 10.0_f64);
+    if !(ratio(lo) <= target && target <= ratio(hi)) {
+        return None;
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if ratio(mid) < target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let order = 0.5 * (lo + hi);
+    let coefficient = d23 / (h2.powf(order) - h3.powf(order));
+    Some(Extrapolation {
+        limit: f3 - coefficient * h3.powf(order),
+        order,
+        coefficient,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table(text: &str) -> Table {
+        text.parse().unwrap()
+    }
+
+    #[test]
+    fn vary_lists_and_ranges() {
+        let p = parse_vary("material.poisson=0.1, 0.2,0.3").unwrap();
+        assert_eq!(p.key, "material.poisson");
+        assert_eq!(p.values, vec![0.1, 0.2, 0.3]);
+        let p = parse_vary("half_angle=10:30:5").unwrap();
+        assert_eq!(p.values, vec![10.0, 15.0, 20.0, 25.0, 30.0]);
+        let p = parse_vary("x=0:1:3").unwrap();
+        assert_eq!(p.values, vec![0.0, 0.5, 1.0]);
+        for bad in [
+            "poisson",
+            "=1",
+            "a..b=1",
+            "a=1,x",
+            "a=1:2",
+            "a=1:2:0",
+            "a=1:2:1",
+            "a=1,1",
+            "a=nan",
+            "a=0:1:100000",
+        ] {
+            assert!(parse_vary(bad).is_err(), "{bad} was accepted");
+        }
+    }
+
+    #[test]
+    fn the_grid_is_the_product_first_key_slowest() {
+        let a = parse_vary("a=1,2").unwrap();
+        let b = parse_vary("b=10,20,30").unwrap();
+        let grid = points(&[a.clone(), b]).unwrap();
+        assert_eq!(grid.len(), 6);
+        assert_eq!(grid[0], vec![1.0, 10.0]);
+        assert_eq!(grid[1], vec![1.0, 20.0]);
+        assert_eq!(grid[5], vec![2.0, 30.0]);
+        assert!(points(&[a.clone(), a]).is_err());
+        assert_eq!(points(&[]).unwrap(), vec![Vec::<f64>::new()]);
+    }
+
+    #[test]
+    fn points_apply_to_keys_the_file_has() {
+        let base = table(
+            "mu = 2.0\n[mesh.generate]\nkind = \"plug2d\"\nbottom_width = 1.0\ntop_width = 2.0\n\
+             height = 1.0\nnx = 8\nny = 6\n[material]\nyoung = 1.0\npoisson = 0.3\n",
+        );
+        let params = [
+            parse_vary("material.poisson=0.25").unwrap(),
+            parse_vary("refine=2").unwrap(),
+            parse_vary("half_angle=45").unwrap(),
+        ];
+        let t = apply(&base, &params, &[0.25, 2.0, 45.0]).unwrap();
+        assert_eq!(t["material"]["poisson"].as_float(), Some(0.25));
+        let g = &t["mesh"]["generate"];
+        assert_eq!(g["nx"].as_integer(), Some(16));
+        assert_eq!(g["ny"].as_integer(), Some(12));
+        assert!((g["top_width"].as_float().unwrap() - 3.0).abs() < 1e-12);
+        // An integer key takes whole numbers only; a missing key is an error, not a no-op.
+        let ny = [parse_vary("mesh.generate.ny=2.5").unwrap()];
+        assert!(apply(&base, &ny, &[2.5])
+            .unwrap_err()
+            .contains("whole number"));
+        let ny = [parse_vary("mesh.generate.ny=12").unwrap()];
+        assert_eq!(
+            apply(&base, &ny, &[12.0]).unwrap()["mesh"]["generate"]["ny"].as_integer(),
+            Some(12)
+        );
+        let typo = [parse_vary("material.poison=0.2").unwrap()];
+        assert!(apply(&base, &typo, &[0.2])
+            .unwrap_err()
+            .contains("no such key"));
+        let kind = [parse_vary("mesh.generate.kind=1").unwrap()];
+        assert!(apply(&base, &kind, &[1.0])
+            .unwrap_err()
+            .contains("not a number"));
+        let stiffness = table("mu = 1.0\n[stiffness]\nrows = [[1.0]]\n");
+        let r = [parse_vary("refine=2").unwrap()];
+        assert!(apply(&stiffness, &r, &[2.0])
+            .unwrap_err()
+            .contains("generated body"));
+        let r = [parse_vary("refine=1.5").unwrap()];
+        assert!(apply(&base, &r, &[1.5]).is_err());
+        let a = [parse_vary("half_angle=95").unwrap()];
+        assert!(apply(&base, &a, &[95.0]).is_err());
+        // The base is not changed.
+        assert_eq!(base["material"]["poisson"].as_float(), Some(0.3));
+    }
+
+    #[test]
+    fn the_csv_reads_back_as_written() {
+        let params = [
+            parse_vary("material.poisson=0.1,0.2").unwrap(),
+            parse_vary("refine=1").unwrap(),
+        ];
+        let rows = vec![
+            Row {
+                values: vec!["0.1".into(), "1".into()],
+                m: 16,
+                h: Some(0.2),
+                status: "wedged".into(),
+                mu_star: Some(1.7882431241639898),
+                lower: Some(1.7882431223),
+                upper: Some(1.7882431241639898),
+                complete: true,
+                seconds: 0.021,
+            },
+            Row {
+                values: vec!["0.2".into(), "1".into()],
+                m: 16,
+                h: None,
+                status: "incomplete".into(),
+                mu_star: None,
+                lower: None,
+                upper: Some(2.5),
+                complete: false,
+                seconds: 3.0,
+            },
+        ];
+        let text = csv(&params, &rows);
+        let back = read_csv(&text, &params).unwrap();
+        assert_eq!(back.len(), 2);
+        assert_eq!(back[&rows[0].values], rows[0]);
+        assert_eq!(back[&rows[1].values], rows[1]);
+        // Another study's file is refused, and a damaged line is named.
+        let other = [parse_vary("material.young=1").unwrap()];
+        assert!(read_csv(&text, &other).unwrap_err().contains("header"));
+        let damaged = text.replace("wedged,1.78", "wedged,x1.78");
+        assert!(read_csv(&damaged, &params)
+            .unwrap_err()
+            .starts_with("line 2"));
+        assert!(read_csv("", &params).unwrap().is_empty());
+    }
+
+    #[test]
+    fn extrapolation_recovers_a_known_limit_and_order() {
+        for (limit, c, p) in [(1.8, 0.3, 1.0), (1.8, -0.7, 2.0), (0.5, 2.0, 1.5)] {
+            // Uneven refinement, listed in any order.
+            let series: Vec<(f64, f64)> = [0.05, 0.4, 0.1, 0.2, 0.07]
+                .iter()
+                .map(|&h: &f64| (h, limit + c * h.powf(p)))
+                .collect();
+            let e = extrapolate(&series).unwrap();
+            assert!((e.limit - limit).abs() < 1e-9, "{e:?}");
+            assert!((e.order - p).abs() < 1e-6, "{e:?}");
+            assert!((e.coefficient - c).abs() < 1e-6, "{e:?}");
+        }
+        // Not monotone, too few points: no claim.
+        assert!(extrapolate(&[(0.4, 1.0), (0.2, 2.0), (0.1, 1.5)]).is_none());
+        assert!(extrapolate(&[(0.4, 1.0), (0.2, 2.0)]).is_none());
+        assert!(extrapolate(&[(0.4, 1.0), (0.4, 2.0), (0.2, 1.5)]).is_none());
+    }
+}
