@@ -127,6 +127,10 @@ pub(crate) struct SweepArgs {
     /// Write the step plot here (SVG, written atomically).
     #[arg(long, value_name = "PLOT.svg")]
     pub(crate) svg: PathBuf,
+    /// Also write each pattern's configuration at its own threshold as DIR/threshold-N.vtu
+    /// (meshed problems) and DIR/sweep.pvd, their ParaView collection with mu as the time
+    #[arg(long, value_name = "DIR")]
+    pub(crate) vtk: Option<PathBuf>,
     #[command(flatten)]
     pub(crate) common: CriticalCommon,
     #[command(flatten)]

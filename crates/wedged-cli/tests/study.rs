@@ -1,6 +1,7 @@
 //! `wedged study` end to end: each point's `mu*` equals `wedged critical` on the same problem
 //! file written by hand, a rerun resumes from `study.csv`, incomplete points are computed
-//! again, and bad options or files are one-line errors with exit code 2.
+//! again, and bad options or files are one-line errors with exit code 2. Also the other
+//! series: `sweep --vtk`, each pattern at its own threshold with `mu` as ParaView's time.
 
 use std::fs;
 use std::path::Path;
@@ -291,5 +292,65 @@ fn bad_studies_are_one_line_errors() {
             file.to_str().unwrap(),
         ]),
         &["directory"],
+    );
+}
+
+#[test]
+fn sweep_writes_each_pattern_at_its_threshold_as_a_series() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = dir.path().join("plug.toml");
+    fs::write(&base, plug(0.3, 2, 2.0)).unwrap();
+    let series = dir.path().join("series");
+    // An old series file is replaced, not mixed in.
+    fs::create_dir_all(&series).unwrap();
+    fs::write(series.join("threshold-7.vtu"), "old").unwrap();
+    let svg = dir.path().join("plot.svg");
+    let out = wedged(&[
+        "sweep",
+        base.to_str().unwrap(),
+        "--svg",
+        svg.to_str().unwrap(),
+        "--vtk",
+        series.to_str().unwrap(),
+        "--json",
+        "-",
+    ]);
+    assert_code(&out, 0);
+    assert!(!series.join("threshold-7.vtu").exists());
+    let report: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let thresholds: Vec<f64> = report["thresholds"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t["threshold"].as_f64().unwrap())
+        .collect();
+    assert!(!thresholds.is_empty());
+    let pvd = fs::read_to_string(series.join("sweep.pvd")).unwrap();
+    assert_eq!(pvd.matches("<DataSet").count(), thresholds.len(), "{pvd}");
+    for (k, t) in thresholds.iter().enumerate() {
+        let name = format!("threshold-{k}.vtu");
+        assert!(series.join(&name).exists());
+        assert!(
+            pvd.contains(&format!("timestep=\"{t}\" part=\"0\" file=\"{name}\"")),
+            "{pvd}"
+        );
+    }
+    // A condensed stiffness has no mesh to draw.
+    let stiffness = dir.path().join("k.toml");
+    fs::write(
+        &stiffness,
+        "dim = 2\nmu = 2.0\n[stiffness]\nrows = [[2.0, 1.0], [1.0, 1.0]]\n",
+    )
+    .unwrap();
+    assert_bad_input(
+        &wedged(&[
+            "sweep",
+            stiffness.to_str().unwrap(),
+            "--svg",
+            svg.to_str().unwrap(),
+            "--vtk",
+            series.to_str().unwrap(),
+        ]),
+        &["--vtk needs a meshed body"],
     );
 }

@@ -9,6 +9,8 @@ use wedged::{Critical, CriticalMethod, CriticalSettings, CriticalStatus, Problem
 use super::*;
 use crate::args::*;
 use crate::draw::sweep_svg;
+use crate::draw::vtk::{vtu_bytes, View};
+use crate::report::files::write_atomic;
 use crate::report::files::{JsonTarget, PendingFile};
 use crate::report::{self, summary};
 use wedged_cli::input::problem_file;
@@ -25,6 +27,8 @@ pub(crate) struct CriticalJob<'a> {
     source: String,
     json: Option<&'a Path>,
     svg: Option<&'a Path>,
+    /// `sweep --vtk`: the directory of the thresholds' configurations.
+    vtk: Option<&'a Path>,
 }
 
 /// Checks the options (the library checks --tol) and loads the problem of `critical` or
@@ -53,6 +57,7 @@ pub(crate) fn critical_job<'a>(
         source: problem.display().to_string(),
         json,
         svg,
+        vtk: None,
     })
 }
 
@@ -69,7 +74,7 @@ pub(crate) fn run_critical(args: CriticalArgs) -> Result<(), Failure> {
 }
 
 pub(crate) fn run_sweep(args: SweepArgs) -> Result<(), Failure> {
-    let job = critical_job(
+    let mut job = critical_job(
         &args.problem,
         CriticalMethod::Enumerate,
         false,
@@ -77,7 +82,110 @@ pub(crate) fn run_sweep(args: SweepArgs) -> Result<(), Failure> {
         args.json.json.as_deref(),
         Some(&args.svg),
     )?;
+    if let Some(dir) = args.vtk.as_deref() {
+        if job.model.is_none() {
+            return Err(Failure::Input(format!(
+                "--vtk needs a meshed body ([mesh] in the problem file); {} gives a condensed \
+                 stiffness only",
+                job.source
+            )));
+        }
+        prepare_series_dir(dir)?;
+        job.vtk = Some(dir);
+    }
     report_critical(job)
+}
+
+/// The files of `sweep --vtk` in its directory.
+const SERIES_COLLECTION: &str = "sweep.pvd";
+
+/// Creates the `sweep --vtk` directory and removes an earlier sweep's `threshold-N.vtu` and
+/// `sweep.pvd`, so that it holds exactly this run's series.
+fn prepare_series_dir(dir: &Path) -> Result<(), Failure> {
+    let fail = |what: String| Failure::Input(format!("{}: {what}", dir.display()));
+    if dir.exists() && !dir.is_dir() {
+        return Err(fail("--vtk needs a directory, and this is a file".into()));
+    }
+    std::fs::create_dir_all(dir).map_err(|e| fail(format!("cannot create the directory: {e}")))?;
+    let entries =
+        std::fs::read_dir(dir).map_err(|e| fail(format!("cannot read the directory: {e}")))?;
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let old = name == SERIES_COLLECTION
+            || name
+                .strip_prefix("threshold-")
+                .and_then(|rest| rest.strip_suffix(".vtu"))
+                .is_some_and(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()));
+        if old {
+            std::fs::remove_file(entry.path())
+                .map_err(|e| fail(format!("cannot remove the old {name}: {e}")))?;
+        }
+    }
+    Ok(())
+}
+
+/// Writes `threshold-N.vtu` for each pattern with a witness (in the order of the summary's
+/// thresholds table, by threshold) and `sweep.pvd` with each file at its threshold as the time;
+/// returns the line for the summary.
+fn write_series(
+    dir: &Path,
+    model: &Model,
+    source: &str,
+    result: &Critical,
+) -> Result<String, Failure> {
+    let fail = |e: String| Failure::Input(e);
+    let count = result.thresholds.len();
+    let width = count.saturating_sub(1).to_string().len();
+    let mut entries = Vec::new();
+    for (k, t) in result.thresholds.iter().enumerate() {
+        let Some(witness) = &t.witness else { continue };
+        let state = model.recover(&witness.u);
+        let view = View {
+            mesh: model.mesh(),
+            boundary: model.boundary(),
+            status: &witness.status,
+            state: &state,
+            rays: &[],
+            title: format!(
+                "{source}: pattern {k} of {count} at its threshold mu = {}",
+                report::sig4(t.threshold)
+            ),
+        };
+        let path = dir.join(format!("threshold-{k:0width$}.vtu"));
+        let bytes =
+            vtu_bytes(&view).map_err(|e| Failure::Internal(format!("{}: {e}", path.display())))?;
+        write_atomic(&path, &bytes, "VTU file").map_err(|e| fail(e.to_string()))?;
+        entries.push((t.threshold, path));
+    }
+    let mut pvd = String::from(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" \
+         byte_order=\"LittleEndian\">\n  <Collection>\n",
+    );
+    for (mu, path) in &entries {
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        pvd.push_str(&format!(
+            "    <DataSet timestep=\"{mu}\" part=\"0\" file=\"{name}\"/>\n"
+        ));
+    }
+    pvd.push_str("  </Collection>\n</VTKFile>\n");
+    let collection = dir.join(SERIES_COLLECTION);
+    write_atomic(&collection, pvd.as_bytes(), "ParaView collection")
+        .map_err(|e| fail(e.to_string()))?;
+    let missing = count - entries.len();
+    let note = if missing > 0 {
+        format!(" ({missing} without a checked configuration at their threshold, left out)")
+    } else {
+        String::new()
+    };
+    Ok(format!(
+        "{} threshold-N.vtu files (each pattern at its own threshold) and their collection {} \
+         (time = mu) written{note}\n",
+        entries.len(),
+        collection.display()
+    ))
 }
 
 /// Computes `mu*` and writes the summary, the JSON and (sweep) the plot. The JSON and SVG targets
@@ -91,6 +199,7 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
         source,
         json,
         svg,
+        vtk,
     } = job;
     let json = json
         .map(JsonTarget::open)
@@ -110,6 +219,12 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
     };
     let mut stdout_text = String::new();
     let mut svg_line = String::new();
+    let mut series_line = String::new();
+    if let (Some(dir), Some(model)) = (vtk, &model) {
+        if incomplete.is_none() {
+            series_line = write_series(dir, model, &source, &result)?;
+        }
+    }
     if let Some(target) = svg {
         let path = target.path().display().to_string();
         if incomplete.is_some() {
@@ -145,6 +260,7 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
                 &problem, &settings, &source, file_mu, &result, json_path,
             ));
             stdout_text.push_str(&svg_line);
+            stdout_text.push_str(&series_line);
         }
     }
     if let (Some(target @ JsonTarget::File { .. }), Some(text)) = (json, &json_text) {

@@ -304,6 +304,7 @@ mod tests {
                     pattern: vec![ContactPattern::Contact, ContactPattern::Separated],
                     threshold: t,
                     lower: t * (1.0 - 1e-7),
+                    witness: None,
                 })
                 .collect(),
             undecided: Vec::new(),

@@ -145,6 +145,7 @@ pub(super) fn run(
                     pattern: q,
                     threshold: leaf.theta,
                     lower: leaf.lower,
+                    witness: super::witness_of(ctx.form, &leaf).ok(),
                 });
                 found.lower = found.lower.min(leaf.lower);
                 if found.best.as_ref().is_none_or(|b| leaf.theta < b.theta) {

@@ -187,6 +187,10 @@ pub struct PatternThreshold {
     pub threshold: f64,
     /// The certified lower end of its bracket.
     pub lower: f64,
+    /// A solution of the pattern's piece at `threshold` (made and checked as the run's own
+    /// witness is); `None` when it failed that check (the threshold still stands: its bracket is
+    /// the solver's).
+    pub witness: Option<CriticalWitness>,
 }
 
 /// Diagnostics of a run.
@@ -709,7 +713,10 @@ impl Ctx<'_, '_> {
 const SLIP_TOL: f64 = 1e-9;
 
 /// The witness of the best leaf, checked against WP at `mu = theta`.
-fn witness_of(form: &Formulation, best: &Leaf) -> Result<CriticalWitness, EnumerateError> {
+pub(crate) fn witness_of(
+    form: &Formulation,
+    best: &Leaf,
+) -> Result<CriticalWitness, EnumerateError> {
     let (d, m) = (form.dim, form.m);
     let r = best.r.clone();
     let u = form.problem.displacement(&r);
