@@ -152,7 +152,8 @@ does not depend on it). Two derived keys for a generated body ([mesh.generate]):
                bottom_width + 2 height tan(half_angle)
   refine       a whole factor multiplying its division counts (nx, ny, nz, n)
 With refine (or a division count) first, the plot is against the mesh size h, and the
-summary extrapolates mu* to h = 0 (Richardson, through the three finest meshes).
+summary extrapolates mu* to h = 0 (Richardson, through the three finest meshes), or says
+that it grows like ln(1/h) (no finite limit) when that is what the three finest show.
 
   wedged study examples/plug2d.toml --vary refine=1,2,3,4 --out plug-study
   wedged study examples/plug2d.toml --vary half_angle=15:45:7 --vary material.poisson=0.2,0.3 \\

@@ -480,6 +480,39 @@ pub fn extrapolate(series: &[(f64, f64)]) -> Option<Extrapolation> {
     })
 }
 
+/// `mu*(h) = a + slope ln(1/h)` through the three finest points: growth with no finite limit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LogGrowth {
+    /// The growth of `mu*` per unit of `ln(1/h)`, from the two finest steps.
+    pub slope: f64,
+    /// How far the two steps' slopes differ, relative to the larger.
+    pub spread: f64,
+}
+
+/// When [`extrapolate`] finds no power law: whether the three finest points grow like
+/// `ln(1/h)` (the two steps' slopes per unit of `ln(1/h)` of one sign and within 15% of each
+/// other), the signature of a value that follows a singularity the mesh resolves ever
+/// better and has no finite limit.
+pub fn logarithmic(series: &[(f64, f64)]) -> Option<LogGrowth> {
+    let mut points: Vec<(f64, f64)> = series
+        .iter()
+        .copied()
+        .filter(|(h, f)| h.is_finite() && *h > 0.0 && f.is_finite())
+        .collect();
+    points.sort_by(|a, b| b.0.total_cmp(&a.0));
+    points.dedup_by(|a, b| a.0 == b.0);
+    let n = points.len();
+    if n < 3 {
+        return None;
+    }
+    let [(h1, f1), (h2, f2), (h3, f3)] = [points[n - 3], points[n - 2], points[n - 1]];
+    let s12 = (f2 - f1) / (h1 / h2).ln();
+    let s23 = (f3 - f2) / (h2 / h3).ln();
+    let largest = s12.abs().max(s23.abs());
+    let spread = (s12 - s23).abs() / largest;
+    (s12 * s23 > 0.0 && spread <= 0.15).then_some(LogGrowth { slope: s23, spread })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -632,6 +665,22 @@ mod tests {
             assert!((e.order - p).abs() < 1e-6, "{e:?}");
             assert!((e.coefficient - c).abs() < 1e-6, "{e:?}");
         }
+        // Logarithmic growth is not a power law; it is recognised as what it is.
+        let log: Vec<(f64, f64)> = [0.2, 0.1, 0.07, 0.05]
+            .iter()
+            .map(|&h: &f64| (h, 1.8 - 0.0165 * h.ln()))
+            .collect();
+        assert!(extrapolate(&log).is_none());
+        let g = logarithmic(&log).unwrap();
+        assert!((g.slope - 0.0165).abs() < 1e-12 && g.spread < 1e-9, "{g:?}");
+        let power: Vec<(f64, f64)> = [0.2, 0.1, 0.05]
+            .iter()
+            .map(|&h: &f64| (h, 1.8 + 0.3 * h))
+            .collect();
+        assert!(
+            logarithmic(&power).is_none(),
+            "halving steps are not logarithmic"
+        );
         // Not monotone, too few points: no claim.
         assert!(extrapolate(&[(0.4, 1.0), (0.2, 2.0), (0.1, 1.5)]).is_none());
         assert!(extrapolate(&[(0.4, 1.0), (0.2, 2.0)]).is_none());

@@ -221,6 +221,7 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
     }
     let mut summary = String::new();
     let mut limit = None;
+    let mut note: Option<String> = None;
     if x_key == "h" {
         for s in &series {
             let converged: Vec<(f64, f64)> = s
@@ -250,9 +251,27 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
                         limit = Some(e);
                     }
                 }
-                None if converged.len() >= 3 => summary.push_str(&format!(
-                    "no extrapolation{name}: the three finest meshes are not in the asymptotic range (their differences do not shrink like a power of h)\n"
-                )),
+                None if converged.len() >= 3 => match study::logarithmic(&converged) {
+                    Some(g) => {
+                        let text = format!(
+                            "mu* grows like {} ln(1/h) through the three finest meshes: no \
+                             finite limit in sight",
+                            sig4(g.slope)
+                        );
+                        summary.push_str(&format!(
+                            "no extrapolation{name}: {text} (the two steps' slopes differ by \
+                             {:.0}%; a power law does not fit)\n",
+                            100.0 * g.spread
+                        ));
+                        if series.len() == 1 {
+                            note = Some(text);
+                        }
+                    }
+                    None => summary.push_str(&format!(
+                        "no extrapolation{name}: the three finest meshes are not in the \
+                         asymptotic range (their differences do not shrink like a power of h)\n"
+                    )),
+                },
                 None => {}
             }
         }
@@ -277,7 +296,7 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
     };
     write_atomic(
         &plot_path,
-        study_svg(&title, &x_label, &series, limit).as_bytes(),
+        study_svg(&title, &x_label, &series, limit, note.as_deref()).as_bytes(),
         "SVG file",
     )
     .map_err(|e| input(e.to_string()))?;

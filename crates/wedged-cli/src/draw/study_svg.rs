@@ -53,6 +53,7 @@ pub fn study_svg(
     x_label: &str,
     series: &[Series],
     limit: Option<Extrapolation>,
+    note: Option<&str>,
 ) -> String {
     let mut out = crate::draw::svg::preamble(WIDTH, HEIGHT, title, 24.0, 32.0, 0.62);
     let right = if series.iter().any(|s| !s.label.is_empty()) {
@@ -198,6 +199,15 @@ pub fn study_svg(
         );
     }
 
+    if let Some(note) = note {
+        let _ = writeln!(
+            out,
+            "<text class=\"note\" x=\"{}\" y=\"{}\" font-size=\"12\" fill=\"{LIMIT_COLOUR}\">{}</text>",
+            px(LEFT),
+            px(TOP - 12.0),
+            escape(note)
+        );
+    }
     let mut never = Vec::new();
     for (k, s) in series.iter().enumerate() {
         let colour = COLOURS[k % COLOURS.len()];
@@ -304,7 +314,14 @@ mod tests {
                 }],
             },
         ];
-        let svg = study_svg("mu* of plug", "h", &series, None);
+        let svg = study_svg(
+            "mu* of plug",
+            "h",
+            &series,
+            None,
+            Some("grows like ln(1/h)"),
+        );
+        assert!(svg.contains("grows like ln(1/h)"));
         assert_eq!(
             svg.matches("<polyline points=").count(),
             2,
@@ -322,9 +339,9 @@ mod tests {
             order: 1.0,
             coefficient: 0.3,
         };
-        let svg = study_svg("mu* of plug", "h", &series, Some(limit));
+        let svg = study_svg("mu* of plug", "h", &series, Some(limit), None);
         assert!(svg.contains("extrapolated h = 0: 1.75, order 1"));
-        let empty = study_svg("t", "h", &[], None);
+        let empty = study_svg("t", "h", &[], None, None);
         assert!(empty.contains("nothing to plot"));
     }
 }
