@@ -36,7 +36,7 @@ use wedged_cli::jobs::{
 };
 use wedged_cli::one_line;
 use wedged_cli::report::answer::Choice;
-use wedged_cli::report::json::Report;
+use wedged_cli::report::json::{Header, Report};
 
 create_exception!(
     _wedged,
@@ -232,13 +232,31 @@ impl EnumerationRun {
         self.run.json(&self.problem, &self.choice, self.model())
     }
 
-    /// The report's parts, as a dict: the scalars of the JSON's top level, `info` (its JSON
-    /// text), the rays as arrays `ray_u`, `ray_r` (one row per ray) and `ray_status`, the
-    /// cones' `cone_rays` and `cone_status`, and the pieces' `pattern_pattern`,
-    /// `pattern_status`, `pattern_u`, `pattern_r`, `pattern_margin`.
+    /// The report's scalars, as a dict: those of the JSON's top level and `info` (its JSON
+    /// text). What a call hands back at once; the records come from [`EnumerationRun::parts`]
+    /// when first asked for.
+    fn header<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let report = Header::new(&self.problem, &self.choice, &self.run.answer);
+        let out = PyDict::new(py);
+        out.set_item("dim", report.dim)?;
+        out.set_item("mu", report.mu)?;
+        out.set_item("nodes", report.nodes)?;
+        out.set_item("method", report.method)?;
+        out.set_item("outcome", report.outcome)?;
+        out.set_item("complete", report.complete)?;
+        out.set_item("stopped", report.stopped.clone())?;
+        out.set_item("certified", self.run.certificate().map(|c| c.certified()))?;
+        let info = serde_json::to_string(&report.info)
+            .map_err(|e| InternalError::new_err(format!("the run's info: {e}")))?;
+        out.set_item("info", info)?;
+        Ok(out)
+    }
+
+    /// The report's records, as a dict: the rays as arrays `ray_u`, `ray_r` (one row per ray)
+    /// and `ray_status`, the cones' `cone_rays` and `cone_status`, and the pieces'
+    /// `pattern_pattern`, `pattern_status`, `pattern_u`, `pattern_r`, `pattern_margin`.
     fn parts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let report = Report::new(&self.problem, &self.choice, &self.run.answer, self.model());
-        let certificate = self.run.certificate();
         let n = self.problem.dim() * self.problem.nodes();
         let rows = |vectors: Vec<&[f64]>| -> Bound<'py, PyArray2<f64>> {
             let flat: Vec<f64> = vectors.iter().flat_map(|v| v.iter().copied()).collect();
@@ -262,14 +280,6 @@ impl EnumerationRun {
             lists.into_iter().map(|l| names_of(l)).collect()
         };
         let out = PyDict::new(py);
-        out.set_item("dim", report.dim)?;
-        out.set_item("mu", report.mu)?;
-        out.set_item("nodes", report.nodes)?;
-        out.set_item("method", report.method)?;
-        out.set_item("outcome", report.outcome)?;
-        out.set_item("complete", report.complete)?;
-        out.set_item("stopped", report.stopped.clone())?;
-        out.set_item("certified", certificate.map(|c| c.certified()))?;
         out.set_item("ray_u", rows(report.rays.iter().map(|r| r.u).collect()))?;
         out.set_item("ray_r", rows(report.rays.iter().map(|r| r.r).collect()))?;
         out.set_item(
@@ -303,9 +313,6 @@ impl EnumerationRun {
             "pattern_margin",
             pieces.iter().map(|p| p.margin).collect::<Vec<_>>(),
         )?;
-        let info = serde_json::to_string(&report.info)
-            .map_err(|e| InternalError::new_err(format!("the run's info: {e}")))?;
-        out.set_item("info", info)?;
         Ok(out)
     }
 }

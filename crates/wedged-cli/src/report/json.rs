@@ -402,6 +402,47 @@ pub fn peak_rss_bytes() -> Option<u64> {
     Some(kb * 1024)
 }
 
+/// The report's scalars and diagnostics, without its records: what the Python bindings hand
+/// back at once (the records follow when asked for).
+pub struct Header<'a> {
+    pub dim: usize,
+    pub mu: f64,
+    pub nodes: usize,
+    pub method: &'static str,
+    pub outcome: &'static str,
+    pub complete: bool,
+    pub stopped: Option<String>,
+    pub info: InfoJson<'a>,
+}
+
+impl<'a> Header<'a> {
+    pub fn new(problem: &Problem, choice: &Choice, answer: &'a Answer) -> Header<'a> {
+        let outcome = answer.outcome();
+        Header {
+            dim: problem.dim(),
+            mu: problem.mu(),
+            nodes: problem.nodes(),
+            method: choice.name(),
+            outcome: match outcome {
+                Outcome::Wedged => "wedged",
+                Outcome::NotWedged => "not-wedged",
+                Outcome::Incomplete(_) => "incomplete",
+            },
+            complete: !matches!(outcome, Outcome::Incomplete(_)),
+            stopped: match outcome {
+                Outcome::Incomplete(stop) => Some(stop.to_string()),
+                _ => None,
+            },
+            info: match answer {
+                Answer::Rays(result) => InfoJson::Rays(RayInfoJson::from(&result.info)),
+                Answer::Patterns(result) => {
+                    InfoJson::Patterns(PatternInfoJson::new(choice, &result.info))
+                }
+            },
+        }
+    }
+}
+
 impl<'a> Report<'a> {
     pub fn new(
         problem: &Problem,
@@ -409,8 +450,7 @@ impl<'a> Report<'a> {
         answer: &'a Answer,
         model: Option<&Model>,
     ) -> Report<'a> {
-        let outcome = answer.outcome();
-        let (rays, cones, undecided, info) = match answer {
+        let (rays, cones, undecided) = match answer {
             Answer::Rays(result) => (
                 result
                     .rays
@@ -430,37 +470,29 @@ impl<'a> Report<'a> {
                     })
                     .collect(),
                 Vec::new(),
-                InfoJson::Rays(RayInfoJson::from(&result.info)),
             ),
             Answer::Patterns(result) => (
                 Vec::new(),
                 Vec::new(),
                 result.undecided.iter().map(UndecidedJson::from).collect(),
-                InfoJson::Patterns(PatternInfoJson::new(choice, &result.info)),
             ),
         };
+        let header = Header::new(problem, choice, answer);
         Report {
-            dim: problem.dim(),
-            mu: problem.mu(),
-            nodes: problem.nodes(),
-            method: choice.name(),
-            outcome: match outcome {
-                Outcome::Wedged => "wedged",
-                Outcome::NotWedged => "not-wedged",
-                Outcome::Incomplete(_) => "incomplete",
-            },
-            complete: !matches!(outcome, Outcome::Incomplete(_)),
-            stopped: match outcome {
-                Outcome::Incomplete(stop) => Some(stop.to_string()),
-                _ => None,
-            },
+            dim: header.dim,
+            mu: header.mu,
+            nodes: header.nodes,
+            method: header.method,
+            outcome: header.outcome,
+            complete: header.complete,
+            stopped: header.stopped,
             certified: None,
             certified_complete: None,
             rays,
             cones,
             patterns: answer.pieces().iter().map(PatternJson::from).collect(),
             undecided,
-            info,
+            info: header.info,
             model: model.map(ModelJson::new),
             version: env!("CARGO_PKG_VERSION"),
         }

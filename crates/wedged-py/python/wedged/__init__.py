@@ -25,6 +25,7 @@ calls release the GIL and stop on Ctrl-C with ``KeyboardInterrupt``.
 
 from __future__ import annotations
 
+import functools
 import json as _json
 
 # The module defines `enumerate`; the built-in is not used in it.
@@ -103,6 +104,10 @@ class Enumeration:
     ``complete`` is False when the run stopped early (``time_limit``) or left contact sets
     undecided; ``stopped`` then says why. ``rays`` and ``cones`` (2D ray methods) or
     ``patterns`` (every method) hold the answer; ``info`` the run's counters.
+
+    The records (``rays``, ``cones``, ``patterns``) are lists made from the run when one of
+    them is first read, then kept: a call hands back the run at once, and a caller who reads
+    only ``complete`` or ``to_json()`` does not pay for them.
     """
 
     complete: bool
@@ -113,46 +118,70 @@ class Enumeration:
     nodes: int
     stopped: Optional[str]
     certified: Optional[bool]
-    rays: List[Ray]
-    cones: List[Cone]
-    patterns: List[Pattern]
     info: dict
     _run: Any = field(repr=False)
     _problem: Any = field(repr=False, default=None)
 
     @classmethod
     def _from_run(cls, run: Any, problem: Any = None) -> "Enumeration":
-        parts = run.parts()
+        head = run.header()
+        return cls(
+            complete=head["complete"],
+            outcome=head["outcome"],
+            method=head["method"],
+            mu=head["mu"],
+            dim=head["dim"],
+            nodes=head["nodes"],
+            stopped=head["stopped"],
+            certified=head["certified"],
+            info=_json.loads(head["info"]),
+            _run=run,
+            _problem=problem,
+        )
+
+    @functools.cached_property
+    def _records(self) -> tuple:
+        parts = self._run.parts()
         # One row per ray or piece; read-only, as the result is.
         for key in ("ray_u", "ray_r", "pattern_u", "pattern_r"):
             parts[key].flags.writeable = False
         # Rows as views, made in one pass each (NamedTuples: the cheapest immutable records).
         ray_u, ray_r = list(parts["ray_u"]), list(parts["ray_r"])
         pattern_u, pattern_r = list(parts["pattern_u"]), list(parts["pattern_r"])
-        return cls(
-            complete=parts["complete"],
-            outcome=parts["outcome"],
-            method=parts["method"],
-            mu=parts["mu"],
-            dim=parts["dim"],
-            nodes=parts["nodes"],
-            stopped=parts["stopped"],
-            certified=parts["certified"],
-            rays=list(map(Ray, ray_u, ray_r, parts["ray_status"])),
-            cones=list(map(Cone, parts["cone_rays"], parts["cone_status"])),
-            patterns=list(
-                map(
-                    Pattern,
-                    parts["pattern_pattern"],
-                    parts["pattern_status"],
-                    pattern_u,
-                    pattern_r,
-                    parts["pattern_margin"],
-                )
-            ),
-            info=_json.loads(parts["info"]),
-            _run=run,
-            _problem=problem,
+        rays = list(map(Ray, ray_u, ray_r, parts["ray_status"]))
+        cones = list(map(Cone, parts["cone_rays"], parts["cone_status"]))
+        patterns = list(
+            map(
+                Pattern,
+                parts["pattern_pattern"],
+                parts["pattern_status"],
+                pattern_u,
+                pattern_r,
+                parts["pattern_margin"],
+            )
+        )
+        return rays, cones, patterns
+
+    @property
+    def rays(self) -> List[Ray]:
+        """The complementary extreme rays (2D ray methods; empty otherwise)."""
+        return self._records[0]
+
+    @property
+    def cones(self) -> List[Cone]:
+        """The maximal cones of rays (2D ray methods; empty otherwise)."""
+        return self._records[1]
+
+    @property
+    def patterns(self) -> List[Pattern]:
+        """The convex pieces with their witnesses (every method)."""
+        return self._records[2]
+
+    def __repr__(self) -> str:
+        return (
+            f"Enumeration(complete={self.complete}, outcome={self.outcome!r}, "
+            f"method={self.method!r}, mu={self.mu}, dim={self.dim}, nodes={self.nodes}, "
+            f"rays={len(self.rays)}, cones={len(self.cones)}, patterns={len(self.patterns)})"
         )
 
     def to_json(self) -> str:
