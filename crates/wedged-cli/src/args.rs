@@ -146,8 +146,8 @@ DIR/study.pvd (their ParaView collection). Run the same command again to resume:
 points are read back from study.csv; incomplete ones (a time limit, Ctrl-C) are computed again.
 
 --vary KEY=V1,V2,... or KEY=FROM:TO:COUNT, repeated for a grid (every combination). KEY is a
-number the problem file sets, dotted: material.poisson, mesh.generate.ny, mu is not one (mu*
-does not depend on it). Two derived keys for a generated body ([mesh.generate]):
+number the problem file sets, dotted: material.poisson, mesh.generate.ny (varying mu only
+moves where the search starts: mu* does not depend on it). Two derived keys for a generated body ([mesh.generate]):
   half_angle   the notch half-angle in degrees from the vertical: sets top_width =
                bottom_width + 2 height tan(half_angle)
   refine       a whole factor multiplying its division counts (nx, ny, nz, n)
