@@ -424,12 +424,9 @@ pub struct Extrapolation {
     pub coefficient: f64,
 }
 
-/// Richardson extrapolation through the three finest points (`(h, mu*)`, any order): the
-/// order `p` solves `(f1 - f2) / (f2 - f3) = (h1^p - h2^p) / (h2^p - h3^p)` for `h1 > h2 > h3`
-/// (bisection on `p` in `[0.05, 10]`, where the right side grows with `p`). `None` when there
-/// are fewer than three distinct sizes, or the values do not converge monotonically (the
-/// differences change sign, or the observed order leaves that range).
-pub fn extrapolate(series: &[(f64, f64)]) -> Option<Extrapolation> {
+/// The three finest distinct sizes of a series (`(h, mu*)`, any order), coarsest first; `None`
+/// with fewer.
+fn finest_three(series: &[(f64, f64)]) -> Option<[(f64, f64); 3]> {
     let mut points: Vec<(f64, f64)> = series
         .iter()
         .copied()
@@ -437,14 +434,17 @@ pub fn extrapolate(series: &[(f64, f64)]) -> Option<Extrapolation> {
         .collect();
     points.sort_by(|a, b| b.0.total_cmp(&a.0));
     points.dedup_by(|a, b| a.0 == b.0);
-    if points.len() < 3 {
-        return None;
-    }
-    let [(h1, f1), (h2, f2), (h3, f3)] = [
-        points[points.len() - 3],
-        points[points.len() - 2],
-        points[points.len() - 1],
-    ];
+    let n = points.len();
+    (n >= 3).then(|| [points[n - 3], points[n - 2], points[n - 1]])
+}
+
+/// Richardson extrapolation through the three finest points (`(h, mu*)`, any order): the
+/// order `p` solves `(f1 - f2) / (f2 - f3) = (h1^p - h2^p) / (h2^p - h3^p)` for `h1 > h2 > h3`
+/// (bisection on `p` in `[0.05, 10]`, where the right side grows with `p`). `None` when there
+/// are fewer than three distinct sizes, or the values do not converge monotonically (the
+/// differences change sign, or the observed order leaves that range).
+pub fn extrapolate(series: &[(f64, f64)]) -> Option<Extrapolation> {
+    let [(h1, f1), (h2, f2), (h3, f3)] = finest_three(series)?;
     let (d12, d23) = (f1 - f2, f2 - f3);
     if d23 == 0.0 {
         // Already converged to the last digit: the limit is the finest value.
@@ -494,18 +494,7 @@ pub struct LogGrowth {
 /// other), the signature of a value that follows a singularity the mesh resolves ever
 /// better and has no finite limit.
 pub fn logarithmic(series: &[(f64, f64)]) -> Option<LogGrowth> {
-    let mut points: Vec<(f64, f64)> = series
-        .iter()
-        .copied()
-        .filter(|(h, f)| h.is_finite() && *h > 0.0 && f.is_finite())
-        .collect();
-    points.sort_by(|a, b| b.0.total_cmp(&a.0));
-    points.dedup_by(|a, b| a.0 == b.0);
-    let n = points.len();
-    if n < 3 {
-        return None;
-    }
-    let [(h1, f1), (h2, f2), (h3, f3)] = [points[n - 3], points[n - 2], points[n - 1]];
+    let [(h1, f1), (h2, f2), (h3, f3)] = finest_three(series)?;
     let s12 = (f2 - f1) / (h1 / h2).ln();
     let s23 = (f3 - f2) / (h2 / h3).ln();
     let largest = s12.abs().max(s23.abs());

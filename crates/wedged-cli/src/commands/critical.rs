@@ -8,8 +8,8 @@ use wedged::{Critical, CriticalMethod, CriticalSettings, CriticalStatus, Problem
 
 use super::*;
 use crate::args::*;
+use crate::draw::export::write_witness_vtu;
 use crate::draw::sweep_svg;
-use crate::draw::vtk::{vtu_bytes, View};
 use crate::report::files::write_atomic;
 use crate::report::files::{JsonTarget, PendingFile};
 use crate::report::{self, summary};
@@ -139,22 +139,12 @@ fn write_series(
     let mut entries = Vec::new();
     for (k, t) in result.thresholds.iter().enumerate() {
         let Some(witness) = &t.witness else { continue };
-        let state = model.recover(&witness.u);
-        let view = View {
-            mesh: model.mesh(),
-            boundary: model.boundary(),
-            status: &witness.status,
-            state: &state,
-            rays: &[],
-            title: format!(
-                "{source}: pattern {k} of {count} at its threshold mu = {}",
-                report::sig4(t.threshold)
-            ),
-        };
         let path = dir.join(format!("threshold-{k:0width$}.vtu"));
-        let bytes =
-            vtu_bytes(&view).map_err(|e| Failure::Internal(format!("{}: {e}", path.display())))?;
-        write_atomic(&path, &bytes, "VTU file").map_err(|e| fail(e.to_string()))?;
+        let title = format!(
+            "{source}: pattern {k} of {count} at its threshold mu = {}",
+            report::sig4(t.threshold)
+        );
+        write_witness_vtu(model, &witness.u, &witness.status, title, &path)?;
         entries.push((t.threshold, path));
     }
     let mut pvd = String::from(

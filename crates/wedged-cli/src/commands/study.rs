@@ -13,8 +13,8 @@ use wedged::{CriticalMethod, CriticalStatus, Stop};
 
 use super::*;
 use crate::draw::export::collection;
+use crate::draw::export::write_witness_vtu;
 use crate::draw::study_svg::{study_svg, Point, Series};
-use crate::draw::vtk::{vtu_bytes, View};
 use crate::report::files::write_atomic;
 use crate::report::sig4;
 use wedged_cli::input::problem_file;
@@ -144,25 +144,15 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
             seconds: start.elapsed().as_secs_f64(),
         };
         if let (true, Some(model), Some(witness)) = (args.vtk, &loaded.model, &result.witness) {
-            let state = model.recover(&witness.u);
-            let view = View {
-                mesh: model.mesh(),
-                boundary: model.boundary(),
-                status: &witness.status,
-                state: &state,
-                rays: &[],
-                title: format!(
-                    "{source}, {label}: {}",
-                    match (complete, result.upper) {
-                        (true, Some(mu)) => format!("mu* = {}, witness at mu*", sig4(mu)),
-                        (_, Some(mu)) => format!("incomplete, wedged at mu = {}", sig4(mu)),
-                        _ => "no witness".to_string(),
-                    }
-                ),
-            };
-            let bytes = vtu_bytes(&view)
-                .map_err(|e| Failure::Internal(format!("{}: {e}", vtu.display())))?;
-            write_atomic(&vtu, &bytes, "VTU file").map_err(|e| input(e.to_string()))?;
+            let title = format!(
+                "{source}, {label}: {}",
+                match (complete, result.upper) {
+                    (true, Some(mu)) => format!("mu* = {}, witness at mu*", sig4(mu)),
+                    (_, Some(mu)) => format!("incomplete, wedged at mu = {}", sig4(mu)),
+                    _ => "no witness".to_string(),
+                }
+            );
+            write_witness_vtu(model, &witness.u, &witness.status, title, &vtu)?;
             vtus.push(vtu);
         }
         write_stdout(&format!(

@@ -159,6 +159,31 @@ fn write_patterns(
     Ok(written)
 }
 
+/// Writes `path`, the VTU file of one wedged configuration of `model` given by its contact
+/// displacement `u` and statuses (a witness of `critical`, `sweep` or `study`). A view that
+/// fails its own check is a bug (exit 1); a file that cannot be written, bad input (exit 2).
+pub fn write_witness_vtu(
+    model: &Model,
+    u: &[f64],
+    status: &[wedged::NodeStatus],
+    title: String,
+    path: &Path,
+) -> Result<(), wedged_cli::jobs::Failure> {
+    use wedged_cli::jobs::Failure;
+    let state = model.recover(u);
+    let view = View {
+        mesh: model.mesh(),
+        boundary: model.boundary(),
+        status,
+        state: &state,
+        rays: &[],
+        title,
+    };
+    let bytes =
+        vtu_bytes(&view).map_err(|e| Failure::Internal(format!("{}: {e}", path.display())))?;
+    write_atomic(path, &bytes, "VTU file").map_err(|e| Failure::Input(e.to_string()))
+}
+
 /// Writes `DIR/<stem>.vtu` and `DIR/<stem>.svg` of one view, for the directories given.
 fn write_view(
     view: &View,
