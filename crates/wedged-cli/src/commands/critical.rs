@@ -8,7 +8,7 @@ use wedged::{Critical, CriticalMethod, CriticalSettings, CriticalStatus, Problem
 
 use super::*;
 use crate::args::*;
-use crate::draw::export::write_witness_vtu;
+use crate::draw::export::{collection, write_witness_vtu};
 use crate::draw::sweep_svg;
 use crate::report::files::write_atomic;
 use crate::report::files::{JsonTarget, PendingFile};
@@ -147,22 +147,10 @@ fn write_series(
         write_witness_vtu(model, &witness.u, &witness.status, title, &path)?;
         entries.push((t.threshold, path));
     }
-    let mut pvd = String::from(
-        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" \
-         byte_order=\"LittleEndian\">\n  <Collection>\n",
-    );
-    for (mu, path) in &entries {
-        let name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        pvd.push_str(&format!(
-            "    <DataSet timestep=\"{mu}\" part=\"0\" file=\"{name}\"/>\n"
-        ));
-    }
-    pvd.push_str("  </Collection>\n</VTKFile>\n");
-    let collection = dir.join(SERIES_COLLECTION);
-    write_atomic(&collection, pvd.as_bytes(), "ParaView collection")
+    let steps: Vec<(f64, &Path)> = entries.iter().map(|(mu, p)| (*mu, p.as_path())).collect();
+    let pvd = collection(&steps);
+    let pvd_path = dir.join(SERIES_COLLECTION);
+    write_atomic(&pvd_path, pvd.as_bytes(), "ParaView collection")
         .map_err(|e| fail(e.to_string()))?;
     let missing = count - entries.len();
     let note = if missing > 0 {
@@ -174,7 +162,7 @@ fn write_series(
         "{} threshold-N.vtu files (each pattern at its own threshold) and their collection {} \
          (time = mu) written{note}\n",
         entries.len(),
-        collection.display()
+        pvd_path.display()
     ))
 }
 

@@ -296,8 +296,12 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
     ];
     if args.vtk && !vtus.is_empty() {
         let path = dir.join(COLLECTION);
-        let files: Vec<&PathBuf> = vtus.iter().collect();
-        write_atomic(&path, collection(&files).as_bytes(), "ParaView collection")
+        let steps: Vec<(f64, &Path)> = vtus
+            .iter()
+            .enumerate()
+            .map(|(step, p)| (step as f64, p.as_path()))
+            .collect();
+        write_atomic(&path, collection(&steps).as_bytes(), "ParaView collection")
             .map_err(|e| input(e.to_string()))?;
         written.push(format!(
             "{} ({} point-N.vtu, point N at time step N)",

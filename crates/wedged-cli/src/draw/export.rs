@@ -84,9 +84,11 @@ pub fn write_pieces(
         Answer::Patterns(result) => write_patterns(model, problem, result, vtk, svg),
     }?;
     if let Some(dir) = vtk {
-        let pieces: Vec<&PathBuf> = written
+        let pieces: Vec<(f64, &Path)> = written
             .iter()
             .filter(|p| p.extension().is_some_and(|e| e == "vtu"))
+            .enumerate()
+            .map(|(step, p)| (step as f64, p.as_path()))
             .collect();
         if !pieces.is_empty() {
             let path = dir.join(COLLECTION);
@@ -98,14 +100,14 @@ pub fn write_pieces(
     Ok(written)
 }
 
-/// A ParaView collection (`.pvd`) of `files` (in one directory, named relative to it), file
-/// `N` at time step `N`.
-pub fn collection(files: &[&PathBuf]) -> String {
+/// A ParaView collection (`.pvd`) of `steps`: each file (in one directory, named relative to
+/// it) at its time step (`pieces.pvd` and `study.pvd`: the index; `sweep.pvd`: `mu`).
+pub fn collection(steps: &[(f64, &Path)]) -> String {
     let mut out = String::from(
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" \
          byte_order=\"LittleEndian\">\n  <Collection>\n",
     );
-    for (step, file) in files.iter().enumerate() {
+    for (step, file) in steps {
         let name = file
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
