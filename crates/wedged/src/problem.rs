@@ -70,7 +70,59 @@ pub enum ProblemError {
     /// `mu` is not a finite positive number.
     #[error("the friction coefficient mu must be finite and > 0, got {0}")]
     InvalidMu(f64),
+    /// The rigid modes of a floating body do not have `dim * m` rows.
+    #[error(
+        "the rigid modes have {rows} rows, but the stiffness matrix has {size}: one row per \
+         contact degree of freedom, in the same local frames"
+    )]
+    RigidModesSize { rows: usize, size: usize },
+    /// More rigid modes than a body has (3 in 2D, 6 in 3D), or none.
+    #[error("a floating body has 1 to {most} rigid modes in {dim}D, got {count}")]
+    RigidModesCount {
+        count: usize,
+        most: usize,
+        dim: usize,
+    },
+    /// A rigid mode has a non-finite entry.
+    #[error("the rigid modes have a non-finite entry {value} at row {row}, column {col}")]
+    RigidModesNonFinite { row: usize, col: usize, value: f64 },
+    /// The rigid modes are linearly dependent.
+    #[error(
+        "the rigid modes are linearly dependent: mode {mode} is (within {relative:.1e}) a \
+         combination of the others"
+    )]
+    RigidModesDependent { mode: usize, relative: f64 },
+    /// `K R != 0`: a declared rigid mode is not in the null space of `K`.
+    #[error(
+        "rigid mode {mode} is not in the null space of the stiffness: |K R| / (|K| |R|) = \
+         {relative:.2e} > {RIGID_TOLERANCE:e} (K[{row}, :] R[:, {mode}] = {value:e})"
+    )]
+    NotRigid {
+        mode: usize,
+        row: usize,
+        value: f64,
+        relative: f64,
+    },
+    /// `K` is singular beyond the declared rigid modes (or not positive semidefinite).
+    #[error(
+        "the stiffness matrix is not positive definite off its {modes} rigid modes: pivot {pivot} \
+         (node {node}, component {component}) is {value:e}; is a rigid motion missing from the \
+         rigid modes, or the stiffness indefinite?"
+    )]
+    NotDefiniteOffRigid {
+        modes: usize,
+        pivot: usize,
+        node: usize,
+        component: &'static str,
+        value: f64,
+    },
 }
+
+/// Relative size `|K R|_max / (|K|_max |R|_max)` (`R` with orthonormal columns) below which a
+/// declared rigid mode counts as in the null space of `K`. A stiffness condensed by a finite-element
+/// code in double precision meets it by orders of magnitude; one written with 8 significant
+/// digits still does.
+pub const RIGID_TOLERANCE: f64 = 1e-7;
 
 /// A validated wedged problem: `dim`, the symmetric positive definite `K` (in local node frames)
 /// and `mu`.
@@ -78,8 +130,11 @@ pub enum ProblemError {
 pub struct Problem {
     dim: usize,
     k: DMatrix<f64>,
-    /// `K^{-1}`, from the Cholesky factor.
+    /// `K^{-1}`, from the Cholesky factor; for a floating body the pseudo-inverse `K^+`.
     compliance: DMatrix<f64>,
+    /// A floating body's rigid modes at the contact nodes (`dim*m` rows, one column per free
+    /// rigid motion, `K R = 0`); no columns for a clamped body.
+    rigid: DMatrix<f64>,
     mu: f64,
 }
 
@@ -99,6 +154,147 @@ impl Problem {
         if dim != 2 && dim != 3 {
             return Err(ProblemError::InvalidDim(dim));
         }
+        Problem::check_entries(dim, &k)?;
+        check_mu(mu)?;
+        let rows = k.nrows();
+        let k = (&k + k.transpose()) * 0.5;
+        let l = cholesky(&k).map_err(|(pivot, value)| ProblemError::NotPositiveDefinite {
+            pivot: pivot + 1,
+            node: pivot / dim + 1,
+            component: component_name(dim, pivot % dim),
+            value,
+        })?;
+        let compliance = inverse_from_cholesky(&l);
+        Ok(Problem {
+            dim,
+            k,
+            compliance,
+            rigid: DMatrix::zeros(rows, 0),
+            mu,
+        })
+    }
+
+    /// A floating body: `K` positive semidefinite with null space spanned by the columns of
+    /// `rigid` (its free rigid motions at the contact nodes, in the local frames). The wedged
+    /// problem of a floating body (README, "Floating bodies"):
+    ///
+    /// ```text
+    /// WP   find u, r:  K u = r,  the sign, complementarity and friction conditions of WP;
+    ///      K u = r has a solution only when R^T r = 0 (r does no work on a rigid motion: the
+    ///      walls' reactions balance), and then u = K^+ r + R a for any a.
+    /// ```
+    ///
+    /// `K` is checked as in [`Problem::new`]; `rigid` for its size, finiteness and rank, `K R = 0`
+    /// relative to [`RIGID_TOLERANCE`], and `K` for definiteness off the modes. `K` is then
+    /// projected (`P K P`, `P = I - R R^T` with `R` orthonormalised) so that the modes are its
+    /// null space to round-off.
+    pub fn floating(
+        dim: usize,
+        k: DMatrix<f64>,
+        rigid: DMatrix<f64>,
+        mu: f64,
+    ) -> Result<Problem, ProblemError> {
+        if dim != 2 && dim != 3 {
+            return Err(ProblemError::InvalidDim(dim));
+        }
+        Problem::check_entries(dim, &k)?;
+        check_mu(mu)?;
+        let n = k.nrows();
+        let most = if dim == 2 { 3 } else { 6 };
+        if rigid.nrows() != n {
+            return Err(ProblemError::RigidModesSize {
+                rows: rigid.nrows(),
+                size: n,
+            });
+        }
+        let count = rigid.ncols();
+        if count == 0 || count > most {
+            return Err(ProblemError::RigidModesCount { count, most, dim });
+        }
+        for j in 0..count {
+            for i in 0..n {
+                let v = rigid[(i, j)];
+                if !v.is_finite() {
+                    return Err(ProblemError::RigidModesNonFinite {
+                        row: i + 1,
+                        col: j + 1,
+                        value: v,
+                    });
+                }
+            }
+        }
+        let k = (&k + k.transpose()) * 0.5;
+        // Orthonormalise the modes (modified Gram-Schmidt, twice), naming a dependent one.
+        let mut q = rigid.clone();
+        for j in 0..count {
+            let size = rigid.column(j).norm();
+            for _ in 0..2 {
+                for p in 0..j {
+                    let dot = q.column(p).dot(&q.column(j));
+                    let qp = q.column(p).clone_owned();
+                    q.column_mut(j).axpy(-dot, &qp, 1.0);
+                }
+            }
+            let left = q.column(j).norm();
+            let relative = if size > 0.0 { left / size } else { 0.0 };
+            if relative <= 1e-8 {
+                return Err(ProblemError::RigidModesDependent {
+                    mode: j + 1,
+                    relative,
+                });
+            }
+            q.column_mut(j).scale_mut(1.0 / left);
+        }
+        let kq = &k * &q;
+        let k_max = k.amax().max(f64::MIN_POSITIVE);
+        let q_max = q.amax();
+        let mut worst: Option<(usize, usize, f64)> = None;
+        for j in 0..count {
+            for i in 0..n {
+                let rel = kq[(i, j)].abs() / (k_max * q_max);
+                if rel > RIGID_TOLERANCE && worst.is_none_or(|w| rel > w.2) {
+                    worst = Some((i, j, rel));
+                }
+            }
+        }
+        if let Some((i, j, relative)) = worst {
+            return Err(ProblemError::NotRigid {
+                mode: j + 1,
+                row: i + 1,
+                value: kq[(i, j)],
+                relative,
+            });
+        }
+        // P K P with P = I - Q Q^T: the modes exactly (to round-off) in the null space.
+        let p = DMatrix::identity(n, n) - &q * q.transpose();
+        let k = &p * k * &p;
+        let k = (&k + k.transpose()) * 0.5;
+        // (K + s Q Q^T)^-1 = K^+ + Q Q^T / s, for s of K's size: definite exactly when K is
+        // definite off the modes.
+        let s = (0..n).map(|i| k[(i, i)]).fold(0.0f64, f64::max);
+        let shifted = &k + &q * q.transpose() * s;
+        let l = cholesky(&shifted).map_err(|(pivot, value)| ProblemError::NotDefiniteOffRigid {
+            modes: count,
+            pivot: pivot + 1,
+            node: pivot / dim + 1,
+            component: component_name(dim, pivot % dim),
+            value,
+        })?;
+        let inverse = inverse_from_cholesky(&l);
+        let compliance = &p * (inverse - &q * q.transpose() / s) * &p;
+        let compliance = (&compliance + compliance.transpose()) * 0.5;
+        Ok(Problem {
+            dim,
+            k,
+            compliance,
+            rigid: q,
+            mu,
+        })
+    }
+
+    /// The checks of `K`'s shape and entries (a floating body's; [`Problem::new`] makes the
+    /// same ones in its own order).
+    fn check_entries(dim: usize, k: &DMatrix<f64>) -> Result<(), ProblemError> {
         let (rows, cols) = k.shape();
         if rows == 0 || cols == 0 {
             return Err(ProblemError::Empty);
@@ -109,7 +305,6 @@ impl Problem {
         if rows % dim != 0 {
             return Err(ProblemError::SizeNotMultiple { size: rows, dim });
         }
-        check_mu(mu)?;
         for j in 0..cols {
             for i in 0..rows {
                 let v = k[(i, j)];
@@ -141,20 +336,33 @@ impl Problem {
                 relative,
             });
         }
-        let k = (&k + k.transpose()) * 0.5;
-        let l = cholesky(&k).map_err(|(pivot, value)| ProblemError::NotPositiveDefinite {
-            pivot: pivot + 1,
-            node: pivot / dim + 1,
-            component: component_name(dim, pivot % dim),
-            value,
-        })?;
-        let compliance = inverse_from_cholesky(&l);
-        Ok(Problem {
-            dim,
-            k,
-            compliance,
-            mu,
-        })
+        Ok(())
+    }
+
+    /// The point `(r, a)` of a floating body's programs for a solution `(u, r)`: `a` the least
+    /// squares solution of `R a = u - G r` (exact for a solution). `r` alone when clamped.
+    pub(crate) fn point_of(&self, u: &[f64], r: &[f64]) -> Vec<f64> {
+        let n = self.k.nrows();
+        let mut x = r[..n].to_vec();
+        if self.is_floating() {
+            let gr = &self.compliance * nalgebra::DVector::from_column_slice(&x);
+            let rhs = nalgebra::DVector::from_fn(n, |i, _| u[i] - gr[i]);
+            let svd = self.rigid.clone().svd(true, true);
+            if let Ok(a) = svd.solve(&rhs, 1e-12 * svd.singular_values.max()) {
+                x.extend(a.iter());
+            }
+        }
+        x
+    }
+
+    /// Whether the body floats (has free rigid motions).
+    pub fn is_floating(&self) -> bool {
+        self.rigid.ncols() > 0
+    }
+
+    /// The free rigid motions at the contact nodes, orthonormal columns (none when clamped).
+    pub fn rigid_modes(&self) -> &DMatrix<f64> {
+        &self.rigid
     }
 
     /// The same body with another friction coefficient.
@@ -183,7 +391,8 @@ impl Problem {
         &self.k
     }
 
-    /// The compliance `K^{-1}`: `u = K^{-1} r`.
+    /// The compliance `K^{-1}`: `u = K^{-1} r`. For a floating body a generalised inverse
+    /// `G` (`K G r = r` whenever `R^T r = 0`): `u = G r + R a`.
     pub fn compliance(&self) -> &DMatrix<f64> {
         &self.compliance
     }
@@ -191,15 +400,29 @@ impl Problem {
     /// `u = K^{-1} r`, with two steps of iterative refinement, so that `K u = r` holds to
     /// round-off relative to `|K| |u|` even when `K` is ill-conditioned (the product with the
     /// explicit inverse alone is not backward stable).
-    pub fn displacement(&self, r: &[f64]) -> Vec<f64> {
+    ///
+    /// For a floating body `x` is a point of the conic programs, the reactions `r` followed by
+    /// the rigid amplitudes `a`: `u = G r + R a`.
+    pub fn displacement(&self, x: &[f64]) -> Vec<f64> {
         let (g, k) = (&self.compliance, &self.k);
         let n = g.nrows();
+        let r = &x[..n];
         let apply = |m: &DMatrix<f64>, x: &[f64]| -> Vec<f64> {
             (0..n)
                 .map(|i| (0..n).map(|j| m[(i, j)] * x[j]).sum())
                 .collect()
         };
         let mut u = apply(g, r);
+        if x.len() > n {
+            let a = &x[n..];
+            for (i, ui) in u.iter_mut().enumerate() {
+                *ui += a
+                    .iter()
+                    .enumerate()
+                    .map(|(j, aj)| self.rigid[(i, j)] * aj)
+                    .sum::<f64>();
+            }
+        }
         for _ in 0..2 {
             let ku = apply(k, &u);
             let residual: Vec<f64> = r.iter().zip(&ku).map(|(a, b)| a - b).collect();
@@ -245,11 +468,14 @@ impl Problem {
             return (self.clone(), vec![1.0; m]);
         }
         let compliance = DMatrix::from_fn(n, n, |a, b| self.compliance[(a, b)] / f(a) / f(b));
+        // u' = T^-1 u = T^-1 K^+ T^-1 r' + T^-1 R a: the modes scale like displacements.
+        let rigid = DMatrix::from_fn(n, self.rigid.ncols(), |a, j| self.rigid[(a, j)] / f(a));
         (
             Problem {
                 dim: d,
                 k,
                 compliance,
+                rigid,
                 mu: self.mu,
             },
             t,
@@ -278,10 +504,12 @@ impl Problem {
         let idx = |a: usize| order[a / d] * d + a % d;
         let k = DMatrix::from_fn(n, n, |i, j| self.k[(idx(i), idx(j))]);
         let compliance = DMatrix::from_fn(n, n, |i, j| self.compliance[(idx(i), idx(j))]);
+        let rigid = DMatrix::from_fn(n, self.rigid.ncols(), |i, j| self.rigid[(idx(i), j)]);
         Problem {
             dim: d,
             k,
             compliance,
+            rigid,
             mu: self.mu,
         }
     }

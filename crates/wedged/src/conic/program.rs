@@ -5,6 +5,12 @@
 //! is eliminated. Each gap row `u_n_i` is divided by the largest entry of its compliance row, so
 //! that gaps and pressures (normalised by `sum r_n = 1`) are numbers of order one whatever the
 //! units of `K`. A node is in one of four classes ([`Class`]).
+//!
+//! A floating body (`Problem::is_floating`) has `k` more unknowns, the amplitudes `a` of its
+//! rigid modes `R`: `u = G r + R a` with `G` the problem's generalised inverse, and every program
+//! carries the `k` equalities `R^T r = 0` (the reactions do no work on a rigid motion). A point
+//! of a program is then the reactions followed by `a` (`dim*m + k` numbers), and a gap row has
+//! `dim*m + k` entries; everything indexed by node reads the reactions alone.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
@@ -213,7 +219,10 @@ pub(crate) struct Formulation<'a> {
     pub dim: usize,
     pub m: usize,
     pub mu: f64,
-    /// Scaled gap rows: `gap[i][c] = G[n_i, c] / scale[i]`, `scale[i] = max_c |G[n_i, c]|`.
+    /// The floating body's rigid modes (`k`; 0 when clamped).
+    pub modes: usize,
+    /// Scaled gap rows: `gap[i][c] = G[n_i, c] / scale[i]`, `scale[i] = max_c |G[n_i, c]|`,
+    /// followed for a floating body by `R[n_i, j] / scale[i]`.
     gap: Vec<Vec<f64>>,
     scale: Vec<f64>,
     pub counters: Counters,
@@ -239,14 +248,22 @@ impl<'a> Formulation<'a> {
         let scale: Vec<f64> = (0..m)
             .map(|i| g.row(dim * i).iter().fold(0.0f64, |a, x| a.max(x.abs())))
             .collect();
+        let rigid = problem.rigid_modes();
         let gap = (0..m)
-            .map(|i| g.row(dim * i).iter().map(|x| x / scale[i]).collect())
+            .map(|i| {
+                g.row(dim * i)
+                    .iter()
+                    .chain(rigid.row(dim * i).iter())
+                    .map(|x| x / scale[i])
+                    .collect()
+            })
             .collect();
         Formulation {
             problem,
             dim,
             m,
             mu: problem.mu(),
+            modes: rigid.ncols(),
             gap,
             scale,
             counters: Counters::default(),
@@ -313,7 +330,8 @@ impl<'a> Formulation<'a> {
         self.confirm(classes, norm)
     }
 
-    /// Node `i`'s scaled gap row: `u_n_i / scale_of(i)` is this row times `r`.
+    /// Node `i`'s scaled gap row: `u_n_i / scale_of(i)` is this row times `r` (for a floating
+    /// body, times the reactions and rigid amplitudes).
     pub(crate) fn gap_row(&self, i: usize) -> &[f64] {
         &self.gap[i]
     }
@@ -331,6 +349,10 @@ impl<'a> Formulation<'a> {
     /// `critical::polish` to read off which constraints a certificate holds tight.
     pub(crate) fn least_certificate(&self, contact: &[bool], mu: f64) -> Option<Vec<f64>> {
         let (d, m) = (self.dim, self.m);
+        if self.modes > 0 {
+            // Not written for a floating body (its certificate also balances the rigid modes).
+            return None;
+        }
         let t = m;
         let mut p = Program::new(m + 1);
         let w = |i: usize, c: usize, sign: f64| -> Vec<(usize, f64)> {
@@ -481,17 +503,36 @@ impl<'a> Formulation<'a> {
             Goal::MinSlack(w) => (&[], Some(w)),
         };
         debug_assert!(weights.is_none() || (mu.is_finite() && matches!(norm, Norm::Sum)));
+        // A floating body's rigid amplitudes follow the reactions.
+        let (reactions, k) = (vars, self.modes);
+        let vars = vars + k;
         let t = (!entries.is_empty() || weights.is_some()).then_some(vars);
         let mut p = Program::new(vars + t.is_some() as usize);
-        // A row over all `dim*m` reaction components as terms in the program's variables.
+        // A row over all `dim*m` reaction components as terms in the program's variables (and,
+        // when it has them, over the `k` rigid amplitudes after).
         let on_reactions = |row: &[f64]| -> Vec<(usize, f64)> {
+            let amplitudes = row.get(d * m..).unwrap_or(&[]);
             (0..m)
                 .filter(|&j| classes[j].has_r())
                 .flat_map(|j| (0..d).map(move |c| (j, c)))
                 .map(|(j, c)| (offset[j] + c, row[d * j + c]))
+                .chain(
+                    amplitudes
+                        .iter()
+                        .enumerate()
+                        .map(|(j, &x)| (reactions + j, x)),
+                )
                 .filter(|&(_, x)| x != 0.0)
                 .collect()
         };
+        if k > 0 {
+            // R^T r = 0: no work on a rigid motion.
+            let rigid = self.problem.rigid_modes();
+            for j in 0..k {
+                let column: Vec<f64> = rigid.column(j).iter().copied().collect();
+                p.zero(Affine::new(on_reactions(&column), 0.0));
+            }
+        }
         let gap = |i: usize, minus_t: bool, constant: f64| {
             let mut terms = on_reactions(&self.gap[i]);
             if minus_t {
@@ -601,10 +642,11 @@ impl<'a> Formulation<'a> {
         Counters::add(&self.counters.retries, stats.retries);
         let decision = match answer {
             Answer::Optimal { x, .. } => {
-                let mut r = vec![0.0; d * m];
+                let mut r = vec![0.0; d * m + k];
                 for i in (0..m).filter(|&i| classes[i].has_r()) {
                     r[d * i..d * i + d].copy_from_slice(&x[offset[i]..offset[i] + d]);
                 }
+                r[d * m..].copy_from_slice(&x[reactions..reactions + k]);
                 if !matches!(norm, Norm::Sum) {
                     let total: f64 = (0..m).map(|i| r[d * i]).sum();
                     r.iter_mut().for_each(|x| *x /= total);

@@ -377,7 +377,9 @@ pub(super) fn run(
         pruned: AtomicU64::new(0),
         leaves: AtomicU64::new(0),
         explored: AtomicU64::new(0),
-        cut: ctx.form.refutations.is_none() && ctx.form.dim == 2,
+        // A floating body's programs carry its rigid amplitudes, which the linear programs of
+        // node_lp and the drive cuts are not written for: Clarabel decides them all.
+        cut: ctx.form.refutations.is_none() && ctx.form.dim == 2 && ctx.form.modes == 0,
         tightened: AtomicU64::new(0),
         lp: LpCounters::default(),
     };

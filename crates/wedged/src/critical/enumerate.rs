@@ -49,7 +49,7 @@ pub(super) fn run(
             explored: 0.0,
             upper: None,
         });
-        let (outcome, found) = if problem.dim() == 2 {
+        let (outcome, found) = if problem.dim() == 2 && !problem.is_floating() {
             let e = enumerate_with_control(
                 &at,
                 &Settings {
@@ -92,7 +92,12 @@ pub(super) fn run(
                     ..Found::default()
                 });
             }
-            let pieces = p.patterns.into_iter().map(|q| (q.pattern, q.r)).collect();
+            // A floating body's point carries its rigid amplitudes, read off the witness.
+            let pieces = p
+                .patterns
+                .into_iter()
+                .map(|q| (q.pattern, at.point_of(&q.u, &q.r)))
+                .collect();
             (p.outcome, pieces)
         };
         info.mu_enumerated = Some(mu);

@@ -300,6 +300,13 @@ pub fn critical_with_control(
             problem.nodes()
         )));
     }
+    if problem.is_floating() && settings.certify {
+        return Err(EnumerateError::InvalidSettings(
+            "--certify is not yet available for a floating body (its exact checks rest on the \
+             exact compliance K^-1); drop --certify"
+                .into(),
+        ));
+    }
     let start = Instant::now();
     // Everything below runs on the problem in per-node units that bring K's diagonal near 1
     // (exactly equivalent, see Problem::equilibrated); the witness is mapped back at the end.
@@ -541,15 +548,27 @@ impl Ctx<'_, '_> {
         if pressed.is_empty() {
             return None;
         }
+        // The pressed nodes' reactions, then (a floating body) the rigid amplitudes.
+        let k = f.modes;
         let mut x: Vec<f64> = pressed
             .iter()
             .flat_map(|&j| (0..d).map(move |c| r[d * j + c]))
+            // A point without amplitudes (a pattern's witness) starts them at zero.
+            .chain((0..k).map(|j| r.get(d * m + j).copied().unwrap_or(0.0)))
             .collect();
+        let on = d * pressed.len();
         let gap = f.problem.compliance();
-        let a = DMatrix::from_fn(rows.len(), x.len(), |row, col| {
-            gap[(d * rows[row], d * pressed[col / d] + col % d)]
+        let rigid = f.problem.rigid_modes();
+        // Rows: the closed gaps `u_n_i = (G r + R a)_n_i = 0`, then `R^T r = 0`.
+        let a = DMatrix::from_fn(rows.len() + k, x.len(), |row, col| {
+            match (rows.get(row), col < on) {
+                (Some(&i), true) => gap[(d * i, d * pressed[col / d] + col % d)],
+                (Some(&i), false) => rigid[(d * i, col - on)],
+                (None, true) => rigid[(d * pressed[col / d] + col % d, row - rows.len())],
+                (None, false) => 0.0,
+            }
         });
-        if !rows.is_empty() {
+        if a.nrows() > 0 {
             // Two rounds of least-change projection x -= A^+ (A x).
             let svd = a.clone().svd(true, true);
             for _ in 0..2 {
@@ -558,10 +577,11 @@ impl Ctx<'_, '_> {
                 x.iter_mut().zip(dx.iter()).for_each(|(v, dv)| *v -= dv);
             }
         }
-        let mut out = vec![0.0; d * m];
-        for (k, &j) in pressed.iter().enumerate() {
-            out[d * j..d * j + d].copy_from_slice(&x[d * k..d * k + d]);
+        let mut out = vec![0.0; d * m + k];
+        for (p, &j) in pressed.iter().enumerate() {
+            out[d * j..d * j + d].copy_from_slice(&x[d * p..d * p + d]);
         }
+        out[d * m..].copy_from_slice(&x[on..]);
         let total: f64 = (0..m).map(|i| out[d * i]).sum();
         if total <= 0.0 || !total.is_finite() {
             return None;
@@ -718,7 +738,7 @@ pub(crate) fn witness_of(
     best: &Leaf,
 ) -> Result<CriticalWitness, EnumerateError> {
     let (d, m) = (form.dim, form.m);
-    let r = best.r.clone();
+    let mut r = best.r.clone();
     let u = form.problem.displacement(&r);
     let theta = best.theta;
     let mut status = Vec::with_capacity(m);
@@ -745,6 +765,8 @@ pub(crate) fn witness_of(
         status.push(s);
         pattern.push(p);
     }
+    // A floating body's point ends with its rigid amplitudes, now in `u`.
+    r.truncate(d * m);
     check_solution(form.problem, theta, &u, &r).map_err(|why| {
         EnumerateError::Internal(format!(
             "the witness of mu* = {theta} failed its check, so no answer is given: {why}"

@@ -46,7 +46,9 @@ pub(crate) fn refute_below(
     theta: f64,
     mu: f64,
 ) -> Option<Refutation> {
-    if !(mu < theta && mu > 0.0 && theta.is_finite()) {
+    // A floating body's certificates carry the rigid modes too; not polished (the probes of
+    // `leaf_threshold` bracket its thresholds instead).
+    if !(mu < theta && mu > 0.0 && theta.is_finite()) || form.modes > 0 {
         return None;
     }
     STEPS.iter().find_map(|step| {
@@ -62,7 +64,7 @@ pub(crate) fn refute_below(
 /// direction), to be made an exact point of the leaf by the caller. `None` when the system
 /// does not behave so.
 pub(crate) fn sharpen(form: &Formulation, contact: &[bool], theta: f64) -> Option<(f64, Vec<f64>)> {
-    if !(theta > 0.0 && theta.is_finite()) {
+    if !(theta > 0.0 && theta.is_finite()) || form.modes > 0 {
         return None;
     }
     let mut tight = Tight::read(form, contact, theta * (1.0 - STEPS[0]))?;

@@ -260,3 +260,80 @@ pub fn random_spd_problem_dim(dim: usize, m: usize, mu: f64, seed: u64) -> Probl
     // Every pair of nodes is within m of each other: the band keeps every entry.
     seeded_spd_problem(dim, m, m, mu, seed)
 }
+
+/// A seeded random floating body in a rigid V-notch (2D) or conical seat (3D) with half angle
+/// `half_angle` (radians, between each wall and the vertical axis): `m` contact nodes at random
+/// distances from the apex (in 2D alternately on the left and the right wall, in 3D at random
+/// angles around the axis), the body's rigid motions at them in the nodes' frames (normal into
+/// the body, then the tangents), and `K = P A A^T P` with `A` random and `P` the projection off
+/// the rigid motions, so that `K` is positive semidefinite with exactly those null vectors.
+///
+/// Equilibrium along the axis (the walls push the body up with `sin(half_angle) r_n` per node,
+/// friction holds it back with at most `mu cos(half_angle) r_n`) makes `tan(half_angle)` a lower
+/// bound of `mu*`.
+pub fn floating_notch(dim: usize, m: usize, half_angle: f64, mu: f64, seed: u64) -> Problem {
+    assert!(dim == 2 || dim == 3, "dim must be 2 or 3");
+    let n = dim * m;
+    let mut state = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    let mut uniform = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (s, c) = half_angle.sin_cos();
+    let modes = if dim == 2 { 3 } else { 6 };
+    let mut rigid = DMatrix::<f64>::zeros(n, modes);
+    for i in 0..m {
+        let dist = 1.0 + uniform();
+        // Position, normal into the body, tangent(s); 2D vectors padded with z = 0.
+        let (x, frame): ([f64; 3], Vec<[f64; 3]>) = if dim == 2 {
+            let side = if i % 2 == 0 { -1.0 } else { 1.0 };
+            let x = [side * s * dist, c * dist, 0.0];
+            let normal = [-side * c, s, 0.0];
+            (x, vec![normal, [normal[1], -normal[0], 0.0]])
+        } else {
+            let phi = 2.0 * std::f64::consts::PI * uniform();
+            let (sp, cp) = phi.sin_cos();
+            let x = [s * cp * dist, s * sp * dist, c * dist];
+            let normal = [-c * cp, -c * sp, s];
+            let t1 = [-sp, cp, 0.0];
+            let t2 = [
+                normal[1] * t1[2] - normal[2] * t1[1],
+                normal[2] * t1[0] - normal[0] * t1[2],
+                normal[0] * t1[1] - normal[1] * t1[0],
+            ];
+            (x, vec![normal, t1, t2])
+        };
+        // Rigid velocities at x: translations, then rotations w x X (2D: about z only).
+        let mut motions: Vec<[f64; 3]> = (0..dim)
+            .map(|a| {
+                let mut e = [0.0; 3];
+                e[a] = 1.0;
+                e
+            })
+            .collect();
+        let axes: &[usize] = if dim == 2 { &[2] } else { &[0, 1, 2] };
+        for &a in axes {
+            let mut w = [0.0; 3];
+            w[a] = 1.0;
+            motions.push([
+                w[1] * x[2] - w[2] * x[1],
+                w[2] * x[0] - w[0] * x[2],
+                w[0] * x[1] - w[1] * x[0],
+            ]);
+        }
+        for (j, v) in motions.iter().enumerate() {
+            for (cpt, e) in frame.iter().enumerate() {
+                rigid[(dim * i + cpt, j)] = e[0] * v[0] + e[1] * v[1] + e[2] * v[2];
+            }
+        }
+    }
+    let a = DMatrix::from_fn(n, n, |_, _| 2.0 * uniform() - 1.0);
+    let q = rigid.clone().qr().q();
+    let p = DMatrix::identity(n, n) - &q * q.transpose();
+    let k = &p * (&a * a.transpose()) * &p;
+    Problem::floating(dim, k, rigid, mu).expect("P A A^T P is semidefinite with null space R")
+}

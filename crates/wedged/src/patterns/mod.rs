@@ -227,6 +227,11 @@ pub fn enumerate_patterns_with_control(
     cancel: &AtomicBool,
 ) -> Result<Patterns, EnumerateError> {
     check_zero_tol(settings.zero_tol)?;
+    if problem.is_floating() {
+        if let Some(why) = floating_refusal(settings.method, settings.certify) {
+            return Err(EnumerateError::InvalidSettings(why));
+        }
+    }
     match settings.method {
         PatternMethod::Faces if problem.nodes() > FACES_MAX_NODES => {
             return Err(EnumerateError::InvalidSettings(format!(
@@ -329,6 +334,27 @@ pub fn enumerate_patterns_with_control(
         info,
         certificate,
     })
+}
+
+/// Why a floating body is refused by a pattern method, or with `--certify`: `None` when the
+/// combination applies. (`bnb` and `pattern-faces` carry the rigid amplitudes in every program;
+/// `pattern-search` runs on linear programs, and `pyramid` on a double description, that are
+/// written for a clamped body; the exact checks of `--certify` rest on the exact compliance
+/// `K^-1`, which a floating body does not have.)
+pub fn floating_refusal(method: PatternMethod, certify: bool) -> Option<String> {
+    match method {
+        PatternMethod::Search | PatternMethod::Pyramid { .. } => Some(format!(
+            "--method {} is written for a clamped body; this body floats: use --method bnb or \
+             pattern-faces",
+            method.name()
+        )),
+        _ if certify => Some(
+            "--certify is not yet available for a floating body (its exact checks rest on the \
+             exact compliance K^-1); drop --certify"
+                .into(),
+        ),
+        _ => None,
+    }
 }
 
 /// The candidates of the pyramid method with `faces` faces, before they are checked: the
@@ -449,6 +475,9 @@ fn finish(form: &Formulation, q: &[ContactPattern]) -> Result<Pattern, String> {
         .collect();
     let u = form.problem.displacement(&r);
     check_witness(form, q, &status, &u, &r)?;
+    // A floating body's point ends with its rigid amplitudes, now in `u`.
+    let mut r = r;
+    r.truncate(form.dim * form.m);
     Ok(Pattern {
         pattern: q.to_vec(),
         status,

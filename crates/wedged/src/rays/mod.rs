@@ -45,6 +45,11 @@ pub fn enumerate(problem: &Problem, settings: &Settings) -> Result<Enumeration, 
 /// a limit of `settings.limits` is reached. Every algorithm has this pair of entry points: the
 /// plain call, and `_with_control` with a progress callback and a cancellation flag
 /// ([`crate::enumerate_patterns_with_control`], [`crate::critical_with_control`]).
+/// Why the ray methods refuse a floating body.
+pub const FLOATING_RAYS: &str = "the ray methods (pruned-dd, full-dd, faces, search, exact) \
+     are written for a clamped body (u = K^-1 r); this body floats, so its pieces are found as \
+     sign patterns: use --method bnb or pattern-faces";
+
 pub fn enumerate_with_control(
     problem: &Problem,
     settings: &Settings,
@@ -55,6 +60,9 @@ pub fn enumerate_with_control(
         return Err(EnumerateError::UnsupportedDim(problem.dim()));
     }
     check_zero_tol(settings.zero_tol)?;
+    if problem.is_floating() {
+        return Err(EnumerateError::InvalidSettings(FLOATING_RAYS.into()));
+    }
     if settings.method == Method::Faces && problem.nodes() > FACES_MAX_NODES {
         return Err(EnumerateError::InvalidSettings(format!(
             "the faces method tries every one of the 2^m contact sets; m = {} is more than its \
