@@ -152,9 +152,19 @@ pub fn plan_enumerate(
     let method = match options.method {
         Some(m) => m,
         None if options.exact => MethodArg::Rays(Method::Exact),
-        None if problem.dim() == 2 => MethodArg::Rays(Method::PrunedDd),
+        // A floating body's pieces are sign patterns: the ray methods are for clamped bodies.
+        None if problem.dim() == 2 && !problem.is_floating() => MethodArg::Rays(Method::PrunedDd),
         None => MethodArg::Patterns(PatternMethod::Bnb),
     };
+    if problem.is_floating() {
+        let why = match method {
+            MethodArg::Rays(_) => Some(wedged::rays::FLOATING_RAYS.to_string()),
+            MethodArg::Patterns(m) => wedged::patterns::floating_refusal(m, options.certify),
+        };
+        if let Some(why) = why {
+            return Err(Failure::Input(format!("{source}: {why}")));
+        }
+    }
     if options.certify {
         // Their answers' completeness rests on floating-point decisions that are not kept for
         // an exact check: refused here rather than reported as a failed certification (exit

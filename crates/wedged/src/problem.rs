@@ -469,7 +469,16 @@ impl Problem {
         }
         let compliance = DMatrix::from_fn(n, n, |a, b| self.compliance[(a, b)] / f(a) / f(b));
         // u' = T^-1 u = T^-1 K^+ T^-1 r' + T^-1 R a: the modes scale like displacements.
-        let rigid = DMatrix::from_fn(n, self.rigid.ncols(), |a, j| self.rigid[(a, j)] / f(a));
+        let mut rigid = DMatrix::from_fn(n, self.rigid.ncols(), |a, j| self.rigid[(a, j)] / f(a));
+        // Any basis of the modes will do: each column scaled by a power of two to a largest
+        // entry near 1, so that the rigid amplitudes are numbers of the reactions' size in the
+        // programs (a mesh's stiffness in pascals would make them 1e3 times smaller).
+        for mut column in rigid.column_iter_mut() {
+            let top = column.amax();
+            if top > 0.0 && top.is_finite() {
+                column.scale_mut(2f64.powi(-top.log2().round() as i32));
+            }
+        }
         (
             Problem {
                 dim: d,

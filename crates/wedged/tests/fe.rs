@@ -345,7 +345,97 @@ fn rigid_displacements_of_contact_nodes_give_no_stress_without_clamps() {
         .von_mises
         .iter()
         .all(|v| v.abs() < 1e-3 * 210e9 * 1e-9));
-    assert!(model.problem(1.0).is_err());
+    // Nothing clamps it: a floating body with its three rigid motions (issue 22).
+    let p = model.problem(1.0).unwrap();
+    assert!(p.is_floating());
+    assert_eq!(p.rigid_modes().ncols(), 3);
+}
+
+/// A floating body's rigid modes are the null space of its condensed stiffness: `K R = 0` to
+/// round-off, and `K` is definite off them (`Problem::floating` checks both). A roller on the
+/// right side (its normal) stops every rigid motion but the slide along that side, the one mode
+/// left when the left side is the contact; in 3D an unclamped body keeps all six.
+#[test]
+fn the_rigid_modes_of_a_floating_body_are_its_null_space() {
+    let free = Model::build(
+        plug2d(4, 3, false),
+        steel(Plane::Strain),
+        &spec(&["contact"], &[], &[]),
+    )
+    .unwrap();
+    let rolled = Model::build(
+        plug2d(4, 3, false),
+        steel(Plane::Strain),
+        &spec(&["left"], &[], &["right"]),
+    )
+    .unwrap();
+    for (model, modes) in [(&free, 3), (&rolled, 1)] {
+        let r = model.rigid_modes();
+        assert_eq!(r.ncols(), modes);
+        let kr = model.k() * r;
+        assert!(
+            kr.amax() <= 1e-9 * model.k().amax() * r.amax(),
+            "{}",
+            kr.amax()
+        );
+        let p = model.problem(1.0).unwrap();
+        assert_eq!(p.rigid_modes().ncols(), modes);
+    }
+    // The slide along the right side, (0.5, 1) from its bottom to its top, at every node.
+    let b = rolled.boundary();
+    let r = rolled.rigid_modes();
+    for (i, f) in b.frames.iter().enumerate() {
+        let v = f.to_global(&[r[(2 * i, 0)], r[(2 * i + 1, 0)]]);
+        let along = (v[0] * 1.0 - v[1] * 0.5).abs();
+        assert!(along <= 1e-12 * r.amax(), "node {i}: {v:?}");
+        assert!(v[0].abs() + v[1].abs() > 0.1 * r.amax(), "node {i}: {v:?}");
+    }
+    let cone = Model::build(
+        frustum(false),
+        steel(Plane::Strain),
+        &spec(&["contact"], &[], &[]),
+    )
+    .unwrap();
+    assert_eq!(cone.rigid_modes().ncols(), 6);
+    let kr = cone.k() * cone.rigid_modes();
+    assert!(kr.amax() <= 1e-9 * cone.k().amax() * cone.rigid_modes().amax());
+    assert_eq!(cone.problem(1.0).unwrap().rigid_modes().ncols(), 6);
+}
+
+/// Two bodies that nothing clamps could each move on their own: refused, naming a node of each.
+#[test]
+fn two_floating_parts_are_refused() {
+    let mesh = plug2d(2, 1, false);
+    let count = mesh.coords().len();
+    let mut coords = mesh.coords().to_vec();
+    coords.extend(mesh.coords().iter().map(|x| [x[0] + 10.0, x[1], x[2]]));
+    let mut elements = mesh.elements().to_vec();
+    elements.extend(mesh.elements().iter().map(|e| wedged::fe::Element {
+        kind: e.kind,
+        nodes: e.nodes.iter().map(|a| a + count).collect(),
+    }));
+    let groups = mesh
+        .groups()
+        .iter()
+        .map(|g| {
+            let mut g = g.clone();
+            let shifted: Vec<Vec<usize>> = g
+                .entities
+                .iter()
+                .map(|e| e.iter().map(|a| a + count).collect())
+                .collect();
+            g.entities.extend(shifted);
+            g
+        })
+        .collect();
+    let mesh = Mesh::new(2, coords, elements, groups).unwrap();
+    let e = Model::build(mesh, steel(Plane::Strain), &spec(&["contact"], &[], &[])).unwrap_err();
+    let text = e.to_string();
+    assert!(text.contains("disconnected parts"), "{text}");
+    assert!(
+        text.contains("node 1 ") && text.contains(&format!("node {}", count + 1)),
+        "{text}"
+    );
 }
 
 #[test]

@@ -157,6 +157,16 @@ pub struct Loaded {
 struct RawStiffness {
     matrix_market: Option<PathBuf>,
     rows: Option<Vec<Vec<f64>>>,
+    /// A floating body's rigid modes: a Matrix Market file (`dim*m` x `k`) or rows.
+    rigid_modes: Option<RawMatrix>,
+}
+
+/// A matrix given by a Matrix Market file (relative to the problem file) or inline rows.
+#[derive(Debug, Deserialize)]
+#[serde(untagged, expecting = "a Matrix Market file name or rows of numbers")]
+enum RawMatrix {
+    File(PathBuf),
+    Rows(Vec<Vec<f64>>),
 }
 
 /// Reads and validates the problem in the TOML file at `path`. With `mu_on_command_line` the
@@ -272,7 +282,13 @@ fn model_problem(model: &Model, mu: f64) -> Result<Problem, String> {
     model.problem(mu).map_err(|e| match e {
         ProblemError::NotPositiveDefinite { node, .. } => format!(
             "the condensed stiffness is singular at contact node {node}: the body can move \
-             rigidly; clamp part of it with a [[clamp]] group (floating bodies are not supported)"
+             rigidly in a way that is not a rigid motion of the whole mesh; check the mesh for \
+             loose elements or a mechanism"
+        ),
+        ProblemError::NotDefiniteOffRigid { node, modes, .. } => format!(
+            "the body floats ({modes} rigid motions are free) and its condensed stiffness is \
+             singular beyond them at contact node {node}: check the mesh for loose elements or \
+             a mechanism"
         ),
         e @ ProblemError::InvalidMu(_) => e.to_string(),
         e => format!("the condensed stiffness: {e}"),
@@ -325,9 +341,42 @@ fn load_stiffness(path: &Path, raw: RawProblem, mu: f64) -> Result<Problem, Load
         }
     };
 
-    Problem::new(dim, k, mu).map_err(|e| match e {
-        // Errors in K belong to the file that holds it; the others to the problem file.
+    let rigid = match stiffness.rigid_modes {
+        None => None,
+        Some(RawMatrix::Rows(rows)) => Some((
+            matrix_from_rows(&rows)
+                .map_err(|m| err(m.replace("[stiffness] rows", "[stiffness] rigid_modes rows")))?,
+            format!("{name} ([stiffness] rigid_modes)"),
+        )),
+        Some(RawMatrix::File(relative)) => {
+            let base = path.parent().unwrap_or(Path::new(""));
+            let r_path = base.join(relative);
+            let r = mtx::read(&r_path).map_err(|e| LoadError(one_line(&e.to_string())))?;
+            Some((
+                r,
+                format!("{} (the rigid modes of {name})", r_path.display()),
+            ))
+        }
+    };
+    let Some((rigid, rigid_source)) = rigid else {
+        return Problem::new(dim, k, mu).map_err(|e| match e {
+            // Errors in K belong to the file that holds it; the others to the problem file.
+            ProblemError::InvalidDim(_) | ProblemError::InvalidMu(_) => err(e.to_string()),
+            ProblemError::NotPositiveDefinite { .. } => LoadError(format!(
+                "{matrix_source}: {e} (a floating body: declare its rigid modes with \
+                 `rigid_modes = \"R.mtx\"` in [stiffness], a dim*m x k matrix in the same local \
+                 frames, K R = 0)"
+            )),
+            _ => LoadError(format!("{matrix_source}: {e}")),
+        });
+    };
+    Problem::floating(dim, k, rigid, mu).map_err(|e| match e {
         ProblemError::InvalidDim(_) | ProblemError::InvalidMu(_) => err(e.to_string()),
+        ProblemError::RigidModesSize { .. }
+        | ProblemError::RigidModesCount { .. }
+        | ProblemError::RigidModesNonFinite { .. }
+        | ProblemError::RigidModesDependent { .. }
+        | ProblemError::NotRigid { .. } => LoadError(format!("{rigid_source}: {e}")),
         _ => LoadError(format!("{matrix_source}: {e}")),
     })
 }

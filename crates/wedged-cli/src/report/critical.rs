@@ -60,6 +60,8 @@ pub struct CriticalReport<'a> {
     pub source: &'a str,
     pub dim: usize,
     pub nodes: usize,
+    /// A floating body's free rigid motions (0 when it is held).
+    pub rigid_modes: usize,
     pub method: &'static str,
     pub status: &'static str,
     pub complete: bool,
@@ -202,6 +204,7 @@ impl<'a> CriticalReport<'a> {
             source,
             dim: problem.dim(),
             nodes: problem.nodes(),
+            rigid_modes: problem.rigid_modes().ncols(),
             method: settings.method.name(),
             status: result.status.name(),
             complete: !matches!(result.status, CriticalStatus::Incomplete(_)),
@@ -381,9 +384,10 @@ pub fn render(
     };
     let _ = writeln!(
         out,
-        "problem {source}: dim {}, {}; critical friction coefficient by {}, tol {:e}{start}",
+        "problem {source}: dim {}, {}{}; critical friction coefficient by {}, tol {:e}{start}",
         problem.dim(),
         plural(problem.nodes(), "node", "nodes"),
+        crate::report::summary::floating_note(problem),
         settings.method.name(),
         settings.tol
     );

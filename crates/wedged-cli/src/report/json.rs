@@ -65,6 +65,8 @@ pub struct Report<'a> {
     pub dim: usize,
     pub mu: f64,
     pub nodes: usize,
+    /// A floating body's free rigid motions (0 when it is held).
+    pub rigid_modes: usize,
     pub method: &'static str,
     pub outcome: &'static str,
     /// False when the run stopped at a limit or on Ctrl-C.
@@ -408,6 +410,7 @@ pub struct Header<'a> {
     pub dim: usize,
     pub mu: f64,
     pub nodes: usize,
+    pub rigid_modes: usize,
     pub method: &'static str,
     pub outcome: &'static str,
     pub complete: bool,
@@ -422,6 +425,7 @@ impl<'a> Header<'a> {
             dim: problem.dim(),
             mu: problem.mu(),
             nodes: problem.nodes(),
+            rigid_modes: problem.rigid_modes().ncols(),
             method: choice.name(),
             outcome: match outcome {
                 Outcome::Wedged => "wedged",
@@ -482,6 +486,7 @@ impl<'a> Report<'a> {
             dim: header.dim,
             mu: header.mu,
             nodes: header.nodes,
+            rigid_modes: header.rigid_modes,
             method: header.method,
             outcome: header.outcome,
             complete: header.complete,

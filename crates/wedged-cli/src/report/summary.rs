@@ -96,6 +96,19 @@ pub fn wrapped(out: &mut String, first: usize, rest: usize, text: &str) {
     out.push('\n');
 }
 
+/// `", floating (3 free rigid motions)"` for a floating body, nothing for a held one. The
+/// pictures and files show the displacement the programs chose among `u + R a` (README,
+/// "Floating bodies").
+pub fn floating_note(problem: &wedged::Problem) -> String {
+    match problem.rigid_modes().ncols() {
+        0 => String::new(),
+        k => format!(
+            ", floating ({})",
+            plural(k, "free rigid motion", "free rigid motions")
+        ),
+    }
+}
+
 pub fn plural(n: usize, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })
 }
@@ -116,9 +129,10 @@ pub fn render(
     };
     let _ = writeln!(
         out,
-        "problem {source}: dim {}, {}, mu = {}, method {}{faces}",
+        "problem {source}: dim {}, {}{}, mu = {}, method {}{faces}",
         problem.dim(),
         plural(problem.nodes(), "node", "nodes"),
+        floating_note(problem),
         problem.mu(),
         choice.name()
     );

@@ -526,11 +526,26 @@ impl<'a> Formulation<'a> {
                 .collect()
         };
         if k > 0 {
-            // R^T r = 0: no work on a rigid motion.
+            // R^T r = 0 (no work on a rigid motion) on the reactions that may be nonzero, as
+            // independent rows: with few such nodes the k rows are dependent (one node in 2D:
+            // 2 unknowns, 3 rows), and an interior-point solver stalls on dependent equalities.
             let rigid = self.problem.rigid_modes();
-            for j in 0..k {
-                let column: Vec<f64> = rigid.column(j).iter().copied().collect();
-                p.zero(Affine::new(on_reactions(&column), 0.0));
+            let cols: Vec<usize> = (0..m)
+                .filter(|&j| classes[j].has_r())
+                .flat_map(|j| (0..d).map(move |c| d * j + c))
+                .collect();
+            let block = nalgebra::DMatrix::from_fn(k, cols.len(), |j, c| rigid[(cols[c], j)]);
+            let svd = block.svd(false, true);
+            let top = svd.singular_values.max();
+            let vt = svd.v_t.expect("asked for");
+            for (row, &sigma) in svd.singular_values.iter().enumerate() {
+                if sigma > 1e-9 * top {
+                    let mut full = vec![0.0; d * m];
+                    for (c, &a) in cols.iter().enumerate() {
+                        full[a] = vt[(row, c)];
+                    }
+                    p.zero(Affine::new(on_reactions(&full), 0.0));
+                }
             }
         }
         let gap = |i: usize, minus_t: bool, constant: f64| {

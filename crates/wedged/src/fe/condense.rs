@@ -122,6 +122,9 @@ pub struct Model {
     factor: Option<faer::sparse::linalg::solvers::Llt<usize, f64>>,
     k_oc: SparseColMat<usize, f64>,
     k: DMatrix<f64>,
+    /// The rigid motions that no clamp or roller stops, at the contact nodes in their frames
+    /// (no columns when the body is held).
+    rigid: DMatrix<f64>,
     stats: Condensed,
 }
 
@@ -194,6 +197,7 @@ impl Model {
             }
         }
         check_held(&mesh, &nodes)?;
+        let rigid = free_rigid_modes(&mesh, &boundary)?;
         let m = boundary.contact_nodes.len();
         let nc = dim * m;
 
@@ -330,6 +334,7 @@ impl Model {
             factor,
             k_oc,
             k,
+            rigid,
             stats,
         })
     }
@@ -340,10 +345,23 @@ impl Model {
     }
 
     /// The wedged problem of this model at friction coefficient `mu`: its condensed stiffness
-    /// in the mesh's dimension. The one `Model -> Problem` conversion; `Err` as
-    /// [`Problem::new`] (a body that can move rigidly has a singular `K`).
+    /// in the mesh's dimension, and for a floating body (rigid motions that no clamp or roller
+    /// stops, [`Model::rigid_modes`]) those motions at the contact nodes
+    /// ([`Problem::floating`]). The one `Model -> Problem` conversion; `Err` as
+    /// [`Problem::new`] or [`Problem::floating`].
     pub fn problem(&self, mu: f64) -> Result<Problem, ProblemError> {
-        Problem::new(self.mesh.dim(), self.k.clone(), mu)
+        if self.rigid.ncols() > 0 {
+            Problem::floating(self.mesh.dim(), self.k.clone(), self.rigid.clone(), mu)
+        } else {
+            Problem::new(self.mesh.dim(), self.k.clone(), mu)
+        }
+    }
+
+    /// The rigid motions of the body that no clamp or roller stops, at the contact nodes in
+    /// their local frames (`dim*m` rows; no columns when the body is held): 3 in 2D and 6 in 3D
+    /// for a body with neither, fewer where rollers stop some.
+    pub fn rigid_modes(&self) -> &DMatrix<f64> {
+        &self.rigid
     }
 
     /// Sizes and timings.
@@ -533,6 +551,133 @@ fn element_transform(
 /// Every connected piece of the mesh must touch a contact, clamped or roller node, or its
 /// rigid motion makes `K_oo` singular. A combinatorial check with a clear message, before a
 /// factorisation that might only see tiny pivots.
+/// The rigid motions of `mesh` that its clamps and rollers leave free, at the contact nodes in
+/// their frames (columns orthonormal in the space of motions, scaled so that rotations about
+/// the centroid move the farthest node by about 1). A floating body must be one connected
+/// part: several parts could each move on their own, which one body's modes do not describe.
+fn free_rigid_modes(mesh: &Mesh, boundary: &Boundary) -> Result<DMatrix<f64>, FeError> {
+    let dim = mesh.dim();
+    let used = mesh.used_nodes();
+    let coords = mesh.coords();
+    let count = used.iter().filter(|&&u| u).count().max(1) as f64;
+    let mut centre = [0.0; 3];
+    for (x, _) in coords.iter().zip(&used).filter(|(_, &u)| u) {
+        for k in 0..3 {
+            centre[k] += x[k] / count;
+        }
+    }
+    let size = mesh.size().max(f64::MIN_POSITIVE);
+    // The candidate motions' velocity at x: translations, then rotations about the centre.
+    let modes = if dim == 2 { 3 } else { 6 };
+    let motion = |j: usize, x: &[f64; 3]| -> [f64; 3] {
+        let mut v = [0.0; 3];
+        if j < dim {
+            v[j] = 1.0;
+            return v;
+        }
+        let d = [
+            (x[0] - centre[0]) / size,
+            (x[1] - centre[1]) / size,
+            (x[2] - centre[2]) / size,
+        ];
+        let axis = if dim == 2 { 2 } else { j - dim };
+        let mut w = [0.0; 3];
+        w[axis] = 1.0;
+        [
+            w[1] * d[2] - w[2] * d[1],
+            w[2] * d[0] - w[0] * d[2],
+            w[0] * d[1] - w[1] * d[0],
+        ]
+    };
+    // What the clamps and rollers stop: one row per fixed direction.
+    let mut rows: Vec<Vec<f64>> = Vec::new();
+    for &a in &boundary.clamped {
+        for k in 0..dim {
+            rows.push((0..modes).map(|j| motion(j, &coords[a])[k]).collect());
+        }
+    }
+    for (a, dirs) in &boundary.rollers {
+        for d in dirs {
+            rows.push(
+                (0..modes)
+                    .map(|j| {
+                        let v = motion(j, &coords[*a]);
+                        v[0] * d[0] + v[1] * d[1] + v[2] * d[2]
+                    })
+                    .collect(),
+            );
+        }
+    }
+    // The free combinations: the null space of the rows (all motions when there are none).
+    let free = if rows.is_empty() {
+        DMatrix::identity(modes, modes)
+    } else {
+        let c = DMatrix::from_fn(rows.len(), modes, |i, j| rows[i][j]);
+        let svd = (c.transpose() * &c).symmetric_eigen();
+        let top = svd.eigenvalues.max().max(f64::MIN_POSITIVE);
+        let keep: Vec<usize> = (0..modes)
+            // Singular values below 1e-6 of the largest: free to round-off.
+            .filter(|&j| svd.eigenvalues[j] <= 1e-12 * top)
+            .collect();
+        DMatrix::from_fn(modes, keep.len(), |i, j| svd.eigenvectors[(i, keep[j])])
+    };
+    let m = boundary.contact_nodes.len();
+    if free.ncols() == 0 {
+        return Ok(DMatrix::zeros(dim * m, 0));
+    }
+    if let Some((a, b)) = two_parts(mesh) {
+        return Err(FeError::InvalidBoundary(format!(
+            "the body floats (nothing clamps it) but the mesh has disconnected parts, one with \
+             node {} and another with node {}: a floating body must be one connected part; \
+             clamp each part, or mesh them as one",
+            a + 1,
+            b + 1
+        )));
+    }
+    Ok(DMatrix::from_fn(dim * m, free.ncols(), |row, col| {
+        let (i, c) = (row / dim, row % dim);
+        let x = &coords[boundary.contact_nodes[i]];
+        let axis = boundary.frames[i].axes()[c];
+        (0..modes)
+            .map(|j| {
+                let v = motion(j, x);
+                free[(j, col)] * (axis[0] * v[0] + axis[1] * v[1] + axis[2] * v[2])
+            })
+            .sum()
+    }))
+}
+
+/// Two used nodes in different connected parts of the mesh, if it has more than one.
+fn two_parts(mesh: &Mesh) -> Option<(usize, usize)> {
+    let n = mesh.node_count();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn find(parent: &mut [usize], mut a: usize) -> usize {
+        while parent[a] != a {
+            parent[a] = parent[parent[a]];
+            a = parent[a];
+        }
+        a
+    }
+    for e in mesh.elements() {
+        let r0 = find(&mut parent, e.nodes[0]);
+        for &a in &e.nodes[1..] {
+            let r = find(&mut parent, a);
+            parent[r] = r0;
+        }
+    }
+    let used = mesh.used_nodes();
+    let mut first: Option<(usize, usize)> = None;
+    for a in (0..n).filter(|&a| used[a]) {
+        let r = find(&mut parent, a);
+        match first {
+            None => first = Some((a, r)),
+            Some((b, root)) if root != r => return Some((b, a)),
+            _ => {}
+        }
+    }
+    None
+}
+
 fn check_held(mesh: &Mesh, nodes: &[NodeDofs]) -> Result<(), FeError> {
     let n = mesh.node_count();
     let mut parent: Vec<usize> = (0..n).collect();
