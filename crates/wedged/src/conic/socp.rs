@@ -23,8 +23,12 @@
 //!    passes is as verified as any other, and is returned when the retry gives nothing better.
 //!    (A typical case: pure feasibility programs whose dual residual stalls just above `1e-8`,
 //!    which is irrelevant with a zero objective.)
-//! 4. Otherwise [`Answer::Uncertain`], with the status and failed check of both attempts; when
-//!    both attempts report dual infeasibility (an unbounded objective) the reason is exactly
+//! 4. When both fail, a third attempt with the usual tolerances and Ruiz equilibration off
+//!    (measured on the floating cork, `examples/cork2d.toml`: 20 of 445 programs undecided by
+//!    both, none by this one; switching equilibration off for every attempt also decided them,
+//!    but would change every clamped run).
+//! 5. Otherwise [`Answer::Uncertain`], with the status and failed check of every attempt; when
+//!    the first two report dual infeasibility (an unbounded objective) the reason is exactly
 //!    `"unbounded"`.
 //!
 //! A program with a non-finite number, a variable index out of range or a cone without a tail is
@@ -187,7 +191,7 @@ pub(crate) enum Answer {
 /// Counts for diagnostics.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub(crate) struct SolveStats {
-    /// Calls of the solver (1 or 2; 0 for a malformed program).
+    /// Calls of the solver (1 to 3; 0 for a malformed program).
     pub solves: u64,
     /// Retries with tighter settings (0 or 1).
     pub retries: u64,
@@ -207,23 +211,34 @@ pub(crate) fn solve(p: &Program) -> (Answer, SolveStats) {
         return (constant_answer(&form), stats);
     }
     stats.solves += 1;
-    let first = match attempt(&form, false) {
+    let first = match attempt(&form, Mode::Default) {
         Verdict::Verified(answer) => return (answer, stats),
         Verdict::Almost(answer) => Ok(answer),
         Verdict::Failed(failure) => Err(failure),
     };
     stats.solves += 1;
     stats.retries += 1;
-    let answer = match (first, attempt(&form, true)) {
+    let answer = match (first, attempt(&form, Mode::Tight)) {
         (_, Verdict::Verified(answer) | Verdict::Almost(answer)) => answer,
         (Ok(almost), Verdict::Failed(_)) => almost,
+        (Err(first), Verdict::Failed(second)) if first.unbounded && second.unbounded => {
+            Answer::Uncertain {
+                reason: "unbounded".to_string(),
+            }
+        }
         (Err(first), Verdict::Failed(second)) => {
-            let reason = if first.unbounded && second.unbounded {
-                "unbounded".to_string()
-            } else {
-                format!("{}; retry: {}", first.reason, second.reason)
-            };
-            Answer::Uncertain { reason }
+            // The last attempt, without Ruiz equilibration: a floating body's programs (free
+            // rigid amplitudes beside the reactions) stall both others now and then.
+            stats.solves += 1;
+            match attempt(&form, Mode::Unequilibrated) {
+                Verdict::Verified(answer) | Verdict::Almost(answer) => answer,
+                Verdict::Failed(third) => Answer::Uncertain {
+                    reason: format!(
+                        "{}; retry: {}; unequilibrated: {}",
+                        first.reason, second.reason, third.reason
+                    ),
+                },
+            }
         }
     };
     (answer, stats)
@@ -484,13 +499,25 @@ impl Form {
     }
 }
 
-/// Clarabel's settings for the first attempt, or the tighter ones of the retry.
-fn settings(tight: bool) -> Result<DefaultSettings<f64>, String> {
+/// Which attempt: Clarabel's usual settings, the tighter retry, or the last one without
+/// Ruiz equilibration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Mode {
+    Default,
+    Tight,
+    Unequilibrated,
+}
+
+/// Clarabel's settings for an attempt.
+fn settings(mode: Mode) -> Result<DefaultSettings<f64>, String> {
     let mut b = DefaultSettingsBuilder::<f64>::default();
     b.verbose(false)
         .max_threads(1)
         .direct_solve_method("qdldl".to_string());
-    if tight {
+    if mode == Mode::Unequilibrated {
+        b.equilibrate_enable(false);
+    }
+    if mode == Mode::Tight {
         b.max_iter(1000)
             .tol_gap_abs(1e-10)
             .tol_gap_rel(1e-10)
@@ -512,8 +539,8 @@ fn settings(tight: bool) -> Result<DefaultSettings<f64>, String> {
 type Raw = (SolverStatus, Vec<f64>, Vec<f64>);
 
 /// One run of Clarabel on `form`.
-fn run(form: &Form, tight: bool) -> Result<Raw, String> {
-    let settings = settings(tight)?;
+fn run(form: &Form, mode: Mode) -> Result<Raw, String> {
+    let settings = settings(mode)?;
     let (a, b, cones) = form.clarabel();
     let p = CscMatrix::zeros((form.n, form.n));
     let outcome = catch_unwind(AssertUnwindSafe(|| {
@@ -527,12 +554,16 @@ fn run(form: &Form, tight: bool) -> Result<Raw, String> {
 }
 
 /// One attempt: run, then check what the status claims.
-fn attempt(form: &Form, tight: bool) -> Verdict {
-    let (status, x, z) = match run(form, tight) {
+fn attempt(form: &Form, mode: Mode) -> Verdict {
+    let (status, x, z) = match run(form, mode) {
         Ok(raw) => raw,
         Err(reason) => return Verdict::Failed(Failure::new(reason)),
     };
-    let which = if tight { "tight" } else { "default" };
+    let which = match mode {
+        Mode::Default => "default",
+        Mode::Tight => "tight",
+        Mode::Unequilibrated => "unequilibrated",
+    };
     let checked = match status {
         SolverStatus::Solved | SolverStatus::AlmostSolved => {
             check_optimal(form, &x, &z).map(|value| Answer::Optimal { x, value })

@@ -91,7 +91,7 @@ fn certificate_sign_convention() {
     // Clarabel's y for x >= 1, x <= 0 (rows -x + s = -1, x + s = 0) is a positive multiple of
     // (1, 1): A^T y = 0, b . y < 0, y >= 0.
     let form = Form::new(&infeasible_lp()).unwrap();
-    let (status, _, z) = run(&form, false).unwrap();
+    let (status, _, z) = run(&form, Mode::Default).unwrap();
     assert_eq!(status, SolverStatus::PrimalInfeasible);
     assert!(z[0] > 0.0 && close(z[0], z[1], 1e-9 * z[0]), "{z:?}");
     assert!(check_certificate(&form, &[1.0, 1.0]).is_ok());
@@ -296,19 +296,21 @@ fn checker_rejects_wrong_points() {
 
 #[test]
 fn retry_settings_solve_the_basic_programs() {
-    for p in [lp(), socp()] {
-        let form = Form::new(&p).unwrap();
-        assert!(matches!(
-            attempt(&form, true),
-            Verdict::Verified(Answer::Optimal { .. })
-        ));
-    }
-    for p in [infeasible_lp(), infeasible_socp()] {
-        let form = Form::new(&p).unwrap();
-        assert!(matches!(
-            attempt(&form, true),
-            Verdict::Verified(Answer::Infeasible { .. })
-        ));
+    for mode in [Mode::Tight, Mode::Unequilibrated] {
+        for p in [lp(), socp()] {
+            let form = Form::new(&p).unwrap();
+            assert!(matches!(
+                attempt(&form, mode),
+                Verdict::Verified(Answer::Optimal { .. })
+            ));
+        }
+        for p in [infeasible_lp(), infeasible_socp()] {
+            let form = Form::new(&p).unwrap();
+            assert!(matches!(
+                attempt(&form, mode),
+                Verdict::Verified(Answer::Infeasible { .. })
+            ));
+        }
     }
 }
 
