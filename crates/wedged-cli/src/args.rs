@@ -278,6 +278,10 @@ pub(crate) struct DemoArgs {
     /// Directory for the demo's JSON, VTU and SVG files.
     #[arg(long, value_name = "DIR", default_value = "wedged-demo")]
     pub(crate) out: PathBuf,
+    /// The floating cork instead: the same plug with nothing clamped, held by the notch walls
+    /// alone (its sign patterns at mu = 0.8, and its mu*, the equilibrium bound 0.5).
+    #[arg(long)]
+    pub(crate) cork: bool,
 }
 
 #[derive(Debug, Args)]

@@ -194,3 +194,26 @@ fn bad_rigid_modes_are_one_line_errors() {
         assert_bad_input(&wedged(&["critical", path]), &all);
     }
 }
+
+#[test]
+fn the_cork_demo_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = wedged(&["demo", "--cork", "--out", dir.path().to_str().unwrap()]);
+    assert_code(&out, 0);
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("floating (3 free rigid motions)"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("mu* = 0.5000000"), "{stdout}");
+    for file in [
+        "result.json",
+        "pattern-0.svg",
+        "pattern-0.vtu",
+        "pieces.pvd",
+    ] {
+        assert!(dir.path().join(file).exists(), "{file} missing");
+    }
+    let svg = fs::read_to_string(dir.path().join("pattern-0.svg")).unwrap();
+    assert!(svg.contains("nothing clamps the body"));
+}

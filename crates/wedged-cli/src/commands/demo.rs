@@ -10,17 +10,36 @@ use crate::report::answer::Choice;
 use wedged_cli::jobs::run_critical_library;
 
 pub(crate) fn run_demo(args: DemoArgs) -> Result<(), Failure> {
-    let (model, mu) = wedged::examples::plug2d_demo()
-        .map_err(|e| Failure::Internal(format!("the demo model: {e}")))?;
+    let (model, mu) = if args.cork {
+        wedged::examples::cork2d_demo()
+    } else {
+        wedged::examples::plug2d_demo()
+    }
+    .map_err(|e| Failure::Internal(format!("the demo model: {e}")))?;
     let problem = model
         .problem(mu)
         .map_err(|e| Failure::Internal(format!("the demo model: {e}")))?;
     let dir = &args.out;
-    let preface = format!(
-        "demo: a 2D elastic plug (plane strain) in a V-notch, its top clamped, its slanted sides \
-         against the notch walls\n(wedged::examples::plug2d_demo); mu = {mu}. Use `wedged \
-         enumerate FILE.toml` for your own problem."
-    );
+    let preface = if args.cork {
+        format!(
+            "demo: a 2D elastic cork (plane strain) in a bottle neck, nothing clamped: a floating \
+             body held by the walls alone\n(wedged::examples::cork2d_demo, README \"Floating \
+             bodies\"); mu = {mu}; its sign patterns by branch and bound. Use `wedged \
+             enumerate FILE.toml` for your own problem."
+        )
+    } else {
+        format!(
+            "demo: a 2D elastic plug (plane strain) in a V-notch, its top clamped, its slanted \
+             sides against the notch walls\n(wedged::examples::plug2d_demo); mu = {mu}. Use \
+             `wedged enumerate FILE.toml` for your own problem."
+        )
+    };
+    // A floating body's pieces are sign patterns (the ray methods are for clamped bodies).
+    let choice = if problem.is_floating() {
+        Choice::Patterns(wedged::PatternSettings::default())
+    } else {
+        Choice::Rays(Settings::default())
+    };
     fs::create_dir_all(dir).map_err(|e| {
         Failure::Input(format!(
             "{}: cannot create the demo directory: {e}",
@@ -30,7 +49,7 @@ pub(crate) fn run_demo(args: DemoArgs) -> Result<(), Failure> {
     let json = dir.join("result.json");
     report(
         &problem,
-        &Choice::Rays(Settings::default()),
+        &choice,
         "demo",
         Some(&model),
         Outputs {

@@ -55,6 +55,38 @@ pub fn plug2d_demo() -> Result<(crate::fe::Model, f64), crate::fe::FeError> {
     Ok((steel_plug(mesh)?, PLUG2D_DEMO_MU))
 }
 
+/// The cork of `wedged demo --cork`: the demo's plug (8 x 6 quadrilaterals, plane strain)
+/// with nothing clamped, a floating body held by the notch walls alone (README, "Floating
+/// bodies"); a rubbery Young's modulus of 10 MPa (it does not change the answers), Poisson
+/// ratio 0.3; 14 contact nodes (its top corners touch too); and a friction coefficient at which
+/// it wedges. Its `mu*` is `tan(atan(1/2)) = 0.5`, the equilibrium bound.
+pub fn cork2d_demo() -> Result<(crate::fe::Model, f64), crate::fe::FeError> {
+    use crate::fe::generate::Plug2d;
+    use crate::fe::{BoundarySpec, ContactSpec, Material, Model, Plane};
+    let mesh = Plug2d {
+        bottom_width: 1.0,
+        top_width: 2.0,
+        height: 1.0,
+        nx: PLUG2D_DEMO_DIVISIONS.0,
+        ny: PLUG2D_DEMO_DIVISIONS.1,
+        simplices: false,
+    }
+    .mesh()?;
+    let spec = BoundarySpec {
+        contact: vec![ContactSpec {
+            group: "contact".to_string(),
+            normal: None,
+        }],
+        clamp: vec![],
+        symmetry: vec![],
+    };
+    let model = Model::build(mesh, Material::new(10e6, 0.3, Plane::Strain)?, &spec)?;
+    Ok((model, CORK2D_DEMO_MU))
+}
+
+/// Friction coefficient of the cork demo (above its `mu* = 0.5`).
+pub const CORK2D_DEMO_MU: f64 = 0.8;
+
 /// The 2D plug of the demo with `nx x ny` quadrilaterals (bottom width 1, top width 2, height 1,
 /// steel, plane strain, nu = 0.3; top clamped, both slanted sides in contact): `2 ny` contact
 /// nodes. `plug2d(10, 8)` (m = 16) and `plug2d(38, 30)` (m = 60) are the critical-coefficient

@@ -238,6 +238,13 @@ pub(super) fn draw_caption(svg: &mut Svg, scene: &Scene) {
             "Isometric view from ({a}, {b}, {c}), z up: deformed boundary faces ({magnification}) \
              coloured by von Mises stress."
         )
+    } else if scene.view.boundary.clamped.is_empty() {
+        // A body that nothing clamps floats: its displacement includes the rigid motion the
+        // witness found (u = K^+ r + R a), not only its deformation.
+        format!(
+            "Deformed mesh ({magnification}) coloured by von Mises stress; nothing clamps the \
+             body: drawn where the witness moves it."
+        )
     } else {
         format!(
             "Deformed mesh ({magnification}) coloured by von Mises stress at element centroids."
