@@ -335,10 +335,16 @@ fn bad_generator_parameters_are_named() {
     assert_bad_input(&out, &["element = \"hex\""]);
 }
 
+/// A body that nothing clamps is a floating body (issue 22), no longer refused; a ray method
+/// is refused for it with the reason.
 #[test]
-fn a_floating_body_is_refused_with_a_reason() {
-    let (out, _) = enumerate_toml(&PLUG.replace("[[clamp]]\ngroup = \"top\"\n", ""), &[]);
-    assert_bad_input(&out, &["rigidly", "[[clamp]]"]);
+fn a_floating_body_is_enumerated_by_sign_patterns() {
+    let floating = PLUG.replace("[[clamp]]\ngroup = \"top\"\n", "");
+    let (out, _) = enumerate_toml(&floating, &[]);
+    assert_success(&out);
+    assert!(text(&out.stdout).contains("floating (3 free rigid motions)"));
+    let (out, _) = enumerate_toml(&floating, &["--method", "pruned-dd"]);
+    assert_bad_input(&out, &["floats", "bnb"]);
 }
 
 #[test]
@@ -438,6 +444,21 @@ fn the_example_files_run() {
             "{file}"
         );
     }
+    // The floating cork: mu* at the equilibrium bound, and its patterns at its file's mu.
+    let cork = root.join("cork2d.toml");
+    let out = wedged(&["critical", cork.to_str().unwrap()]);
+    assert_success(&out);
+    assert!(text(&out.stdout).contains("mu* = 0.5000000"), "cork2d.toml");
+    let out = wedged(&["enumerate", cork.to_str().unwrap()]);
+    assert_success(&out);
+    assert!(
+        text(&out.stdout).contains("maximal sign patterns"),
+        "cork2d.toml"
+    );
+    let cork = root.join("cork3d.toml");
+    let out = wedged(&["critical", cork.to_str().unwrap()]);
+    assert_success(&out);
+    assert!(text(&out.stdout).contains("mu* = 0.350351"), "cork3d.toml");
     let dir = tempfile::tempdir().unwrap();
     let k = dir.path().join("K.mtx");
     let out = wedged(&[

@@ -221,6 +221,9 @@ pub(crate) struct Formulation<'a> {
     pub mu: f64,
     /// The floating body's rigid modes (`k`; 0 when clamped).
     pub modes: usize,
+    /// Each mode's amplitude variable among those that move some contact node normally (the
+    /// others change no gap, so they are no unknown of a program; their amplitude is 0).
+    amplitude: Vec<Option<usize>>,
     /// Scaled gap rows: `gap[i][c] = G[n_i, c] / scale[i]`, `scale[i] = max_c |G[n_i, c]|`,
     /// followed for a floating body by `R[n_i, j] / scale[i]`.
     gap: Vec<Vec<f64>>,
@@ -249,21 +252,44 @@ impl<'a> Formulation<'a> {
             .map(|i| g.row(dim * i).iter().fold(0.0f64, |a, x| a.max(x.abs())))
             .collect();
         let rigid = problem.rigid_modes();
-        let gap = (0..m)
+        // A mode's normal components below round-off of its largest entry are zero: a motion
+        // that slides every contact node along its wall (a turn of a square frustum's corners
+        // about its axis) has none, and its amplitude is then no unknown of the programs.
+        let modes = rigid.ncols();
+        let floor: Vec<f64> = (0..modes).map(|j| 1e-12 * rigid.column(j).amax()).collect();
+        let normal = |i: usize, j: usize| {
+            let x = rigid[(dim * i, j)];
+            if x.abs() <= floor[j] {
+                0.0
+            } else {
+                x
+            }
+        };
+        let gap: Vec<Vec<f64>> = (0..m)
             .map(|i| {
                 g.row(dim * i)
                     .iter()
-                    .chain(rigid.row(dim * i).iter())
+                    .copied()
+                    .chain((0..modes).map(|j| normal(i, j)))
                     .map(|x| x / scale[i])
                     .collect()
             })
             .collect();
+        let mut amplitude = vec![None; modes];
+        let mut used = 0;
+        for (j, slot) in amplitude.iter_mut().enumerate() {
+            if (0..m).any(|i| normal(i, j) != 0.0) {
+                *slot = Some(used);
+                used += 1;
+            }
+        }
         Formulation {
             problem,
             dim,
             m,
             mu: problem.mu(),
-            modes: rigid.ncols(),
+            modes,
+            amplitude,
             gap,
             scale,
             counters: Counters::default(),
@@ -505,7 +531,7 @@ impl<'a> Formulation<'a> {
         debug_assert!(weights.is_none() || (mu.is_finite() && matches!(norm, Norm::Sum)));
         // A floating body's rigid amplitudes follow the reactions.
         let (reactions, k) = (vars, self.modes);
-        let vars = vars + k;
+        let vars = vars + self.amplitude.iter().flatten().count();
         let t = (!entries.is_empty() || weights.is_some()).then_some(vars);
         let mut p = Program::new(vars + t.is_some() as usize);
         // A row over all `dim*m` reaction components as terms in the program's variables (and,
@@ -520,7 +546,7 @@ impl<'a> Formulation<'a> {
                     amplitudes
                         .iter()
                         .enumerate()
-                        .map(|(j, &x)| (reactions + j, x)),
+                        .filter_map(|(j, &x)| Some((reactions + self.amplitude[j]?, x))),
                 )
                 .filter(|&(_, x)| x != 0.0)
                 .collect()
@@ -661,7 +687,9 @@ impl<'a> Formulation<'a> {
                 for i in (0..m).filter(|&i| classes[i].has_r()) {
                     r[d * i..d * i + d].copy_from_slice(&x[offset[i]..offset[i] + d]);
                 }
-                r[d * m..].copy_from_slice(&x[reactions..reactions + k]);
+                for (j, a) in self.amplitude.iter().enumerate() {
+                    r[d * m + j] = a.map_or(0.0, |a| x[reactions + a]);
+                }
                 if !matches!(norm, Norm::Sum) {
                     let total: f64 = (0..m).map(|i| r[d * i]).sum();
                     r.iter_mut().for_each(|x| *x /= total);
@@ -671,6 +699,15 @@ impl<'a> Formulation<'a> {
                     Counters::add(&self.counters.near_degenerate, 1);
                 }
                 Decision::Yes { r, value }
+            }
+            // The simplex method's fallback decided a linear program that Clarabel could not,
+            // and its certificate is not in this module's form: a search that keeps
+            // refutations (a certified run) must not rely on it.
+            Answer::Infeasible { y } if y.is_empty() && self.refutations.is_some() => {
+                Counters::add(&self.counters.uncertain, 1);
+                Decision::Unsure(
+                    "infeasible by the simplex method, with no certificate to keep".into(),
+                )
             }
             Answer::Infeasible { y } => {
                 let z = if self.refutations.is_some() && !y.is_empty() {

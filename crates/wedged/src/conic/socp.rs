@@ -27,7 +27,10 @@
 //!    (measured on the floating cork, `examples/cork2d.toml`: 20 of 445 programs undecided by
 //!    both, none by this one; switching equilibration off for every attempt also decided them,
 //!    but would change every clamped run).
-//! 5. Otherwise [`Answer::Uncertain`], with the status and failed check of every attempt; when
+//! 5. A linear program (no cone) that all three leave undecided goes to the in-house simplex
+//!    method ([`super::simplex`]; checked in its own form; an infeasibility then comes without
+//!    a certificate in this module's form, `y` empty).
+//! 6. Otherwise [`Answer::Uncertain`], with the status and failed check of every attempt; when
 //!    the first two report dual infeasibility (an unbounded objective) the reason is exactly
 //!    `"unbounded"`.
 //!
@@ -180,7 +183,8 @@ pub(crate) enum Answer {
     /// Infeasible, with a checked certificate: `y`, one multiplier per row (zero rows in the
     /// order added, then nonnegative rows, then each cone's head and tail), scaled to
     /// `||y||_inf = 1` and projected onto the dual cone. Empty for a program without variables
-    /// (a violated constant is then its own certificate).
+    /// (a violated constant is then its own certificate), and for a linear program decided by
+    /// the simplex method after Clarabel failed (its certificate, checked, is in its own form).
     Infeasible { y: Vec<f64> },
     /// Neither could be established, even after the retry; the reason in words (Clarabel's
     /// status, or which check failed and by how much, for both attempts; `"unbounded"` for an
@@ -232,16 +236,62 @@ pub(crate) fn solve(p: &Program) -> (Answer, SolveStats) {
             stats.solves += 1;
             match attempt(&form, Mode::Unequilibrated) {
                 Verdict::Verified(answer) | Verdict::Almost(answer) => answer,
-                Verdict::Failed(third) => Answer::Uncertain {
-                    reason: format!(
+                Verdict::Failed(third) => {
+                    let mut reason = format!(
                         "{}; retry: {}; unequilibrated: {}",
                         first.reason, second.reason, third.reason
-                    ),
-                },
+                    );
+                    match by_simplex(&form) {
+                        Some(Ok(answer)) => return (answer, stats),
+                        Some(Err(why)) => reason.push_str(&format!("; simplex: {why}")),
+                        None => {}
+                    }
+                    Answer::Uncertain { reason }
+                }
             }
         }
     };
     (answer, stats)
+}
+
+/// A linear program (no cone constraint) that Clarabel could not decide, by the in-house
+/// simplex method ([`super::simplex`]), which needs no interior (the programs of a floating
+/// body pinned between its walls often have none). Its answers are checked in its own form: an
+/// optimum's bounds against recomputed activities, an infeasibility by its certificate. The
+/// certificate is not returned (its multipliers are in the simplex method's form): an
+/// infeasible answer carries an empty `y`, which an exact re-check treats as no certificate.
+/// `None` for a program with a cone constraint.
+fn by_simplex(form: &Form) -> Option<Result<Answer, String>> {
+    use super::simplex;
+    if form.cons.iter().any(|c| c.kind == Kind::Soc) {
+        return None;
+    }
+    let (n, rows) = (form.n, form.rows.len());
+    let mut lp = simplex::Lp::new(n, rows);
+    for (k, row) in form.rows.iter().enumerate() {
+        for &(j, c) in &row.terms {
+            lp.a[k * n + j] = c;
+        }
+    }
+    for con in &form.cons {
+        for k in con.start..con.start + con.len {
+            // e = terms . x + constant: zero, or >= 0.
+            let at = -form.rows[k].constant;
+            lp.lo[n + k] = at;
+            if con.kind == Kind::Zero {
+                lp.hi[n + k] = at;
+            }
+        }
+    }
+    lp.cost[..n].copy_from_slice(&form.q);
+    Some(match simplex::solve(&lp, None).0 {
+        simplex::Answer::Optimal { x, value } => Ok(Answer::Optimal {
+            x: x[..n].to_vec(),
+            value,
+        }),
+        simplex::Answer::Infeasible { .. } => Ok(Answer::Infeasible { y: Vec::new() }),
+        simplex::Answer::Failed(why) => Err(why),
+    })
 }
 
 /// The answer for a program without variables: optimal at `x = []` when every constraint holds

@@ -538,3 +538,26 @@ fn wedge_like_programs() {
         "{uncertain} of 20 degenerate programs uncertain"
     );
 }
+
+/// The simplex fallback decides the linear programs (with the same optimum as Clarabel) and
+/// leaves cone programs to Clarabel.
+#[test]
+fn the_simplex_fallback_decides_linear_programs() {
+    let form = Form::new(&lp()).unwrap();
+    let Some(Ok(Answer::Optimal { value, .. })) = by_simplex(&form) else {
+        panic!("the simplex method should solve the LP");
+    };
+    let Verdict::Verified(Answer::Optimal {
+        value: clarabel, ..
+    }) = attempt(&form, Mode::Default)
+    else {
+        panic!("Clarabel should solve the LP");
+    };
+    assert!((value - clarabel).abs() <= 1e-7 * (1.0 + clarabel.abs()));
+    let form = Form::new(&infeasible_lp()).unwrap();
+    assert!(matches!(
+        by_simplex(&form),
+        Some(Ok(Answer::Infeasible { ref y })) if y.is_empty()
+    ));
+    assert!(by_simplex(&Form::new(&socp()).unwrap()).is_none());
+}
