@@ -86,7 +86,10 @@ const CATALOGUE: &[(&str, &[&str])] = &[
         &["both a contact node", "'bottom'"],
     ),
     ("mesh_zero_normal.toml", &["normal", "zero vector"]),
-    ("mesh_no_clamp.toml", &["rigidly", "[[clamp]]"]),
+    (
+        "rigid_modes_wrong_size.toml",
+        &["rigid_modes_wrong_size.toml", "rigid modes have 3 rows"],
+    ),
     ("mesh_poisson_half.toml", &["[material]", "Poisson", "0.5"]),
     ("mesh_negative_young.toml", &["[material]", "Young"]),
     ("mesh_degenerate_element.toml", &["element 1", "zero area"]),

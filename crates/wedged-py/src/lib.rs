@@ -123,14 +123,36 @@ fn matrix(k: &PyReadonlyArray2<'_, f64>) -> PyResult<DMatrix<f64>> {
     Ok(DMatrix::from_fn(rows, cols, |i, j| view[[i, j]]))
 }
 
-/// The problem of a matrix (`source` names it in messages).
-fn matrix_problem(k: &PyReadonlyArray2<'_, f64>, dim: usize, mu: f64) -> PyResult<Problem> {
+/// The problem of a matrix (`source` names it in messages), floating when `rigid_modes` are
+/// given (`dim*m x k`, the free rigid motions at the contact nodes, `K R = 0`).
+fn matrix_problem(
+    k: &PyReadonlyArray2<'_, f64>,
+    rigid_modes: Option<&PyReadonlyArray2<'_, f64>>,
+    dim: usize,
+    mu: f64,
+) -> PyResult<Problem> {
     if dim != 2 && dim != 3 {
         return Err(InputError::new_err(format!(
             "dim must be 2 or 3, got {dim}"
         )));
     }
-    Problem::new(dim, matrix(k)?, mu).map_err(|e| InputError::new_err(format!("K: {e}")))
+    let k = matrix(k)?;
+    match rigid_modes {
+        None => Problem::new(dim, k, mu).map_err(|e| match e {
+            wedged::ProblemError::NotPositiveDefinite { .. } => InputError::new_err(format!(
+                "K: {e} (a floating body: pass its rigid modes, rigid_modes=R, dim m x k in the \
+                 same frames, K R = 0)"
+            )),
+            e => InputError::new_err(format!("K: {e}")),
+        }),
+        Some(r) => {
+            let view = r.as_array();
+            let (rows, cols) = (r.shape()[0], r.shape()[1]);
+            let r = DMatrix::from_fn(rows, cols, |i, j| view[[i, j]]);
+            Problem::floating(dim, k, r, mu)
+                .map_err(|e| InputError::new_err(format!("K, rigid_modes: {e}")))
+        }
+    }
 }
 
 fn method_of(name: Option<&str>) -> PyResult<Option<MethodArg>> {
@@ -352,7 +374,7 @@ fn critical_json(
 /// `enumerate(K, mu, dim, method, time_limit, certify, zero_tol, progress)`: the run of
 /// `wedged enumerate` on the condensed stiffness `K`.
 #[pyfunction]
-#[pyo3(signature = (k, mu, dim=2, method=None, time_limit=None, certify=false, zero_tol=None, progress=false))]
+#[pyo3(signature = (k, mu, dim=2, method=None, time_limit=None, certify=false, zero_tol=None, progress=false, rigid_modes=None))]
 #[allow(clippy::too_many_arguments)]
 fn enumerate(
     py: Python<'_>,
@@ -364,8 +386,9 @@ fn enumerate(
     certify: bool,
     zero_tol: Option<f64>,
     progress: bool,
+    rigid_modes: Option<PyReadonlyArray2<'_, f64>>,
 ) -> PyResult<EnumerationRun> {
-    let problem = matrix_problem(&k, dim, mu)?;
+    let problem = matrix_problem(&k, rigid_modes.as_ref(), dim, mu)?;
     enumerate_run(
         py, problem, None, "K", method, time_limit, certify, zero_tol, progress,
     )
@@ -374,7 +397,7 @@ fn enumerate(
 /// `critical(K, dim, method, time_limit, certify, tol, progress)`: the JSON of
 /// `wedged critical` on the condensed stiffness `K`.
 #[pyfunction]
-#[pyo3(signature = (k, dim=2, method=None, time_limit=None, certify=false, tol=None, progress=false))]
+#[pyo3(signature = (k, dim=2, method=None, time_limit=None, certify=false, tol=None, progress=false, rigid_modes=None))]
 #[allow(clippy::too_many_arguments)]
 fn critical(
     py: Python<'_>,
@@ -385,9 +408,10 @@ fn critical(
     certify: bool,
     tol: Option<f64>,
     progress: bool,
+    rigid_modes: Option<PyReadonlyArray2<'_, f64>>,
 ) -> PyResult<String> {
     // mu plays no part in mu*; 1 passes the check of mu.
-    let problem = matrix_problem(&k, dim, 1.0)?;
+    let problem = matrix_problem(&k, rigid_modes.as_ref(), dim, 1.0)?;
     critical_json(
         py, &problem, None, "K", method, time_limit, certify, tol, progress,
     )
@@ -413,6 +437,19 @@ impl LoadedProblem {
             .map(|i| k.row(i).iter().copied().collect())
             .collect();
         PyArray2::from_vec2(py, &rows).expect("rows of equal length")
+    }
+
+    /// A floating body's free rigid motions at the contact nodes (`dim*m x k`, local frames);
+    /// `None` for a held body.
+    #[getter]
+    fn rigid_modes<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray2<f64>>> {
+        let r = self.problem.rigid_modes();
+        (r.ncols() > 0).then(|| {
+            let rows: Vec<Vec<f64>> = (0..r.nrows())
+                .map(|i| r.row(i).iter().copied().collect())
+                .collect();
+            PyArray2::from_vec2(py, &rows).expect("rows of equal length")
+        })
     }
 
     /// The file's `mu`, `None` when it gives none.

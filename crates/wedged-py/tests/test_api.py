@@ -243,3 +243,29 @@ def test_records_are_made_once_when_first_read_and_stay_read_only():
     with pytest.raises(ValueError):
         rays[0].u[0] = 1.0
     assert len(rays) == 32 and f"rays={len(rays)}" in repr(result)
+
+
+def test_a_floating_body_gives_the_commands_answer():
+    """The floating cork (issue 22): from its file, and as a matrix with its rigid modes, the
+    same mu* as the command (the equilibrium bound 0.5); a ray method is refused."""
+    import pathlib
+
+    cork = pathlib.Path(__file__).resolve().parents[3] / "examples" / "cork2d.toml"
+    problem = wedged.load(cork)
+    R = problem.rigid_modes
+    assert R is not None and R.shape == (problem.K.shape[0], 3)
+    assert np.abs(problem.K @ R).max() <= 1e-9 * np.abs(problem.K).max() * np.abs(R).max()
+    from_file = problem.critical()
+    from_matrix = wedged.critical(problem.K, rigid_modes=R)
+    for c in (from_file, from_matrix):
+        assert c.status == "wedged"
+        assert abs(c.mu - 0.5) <= 1e-6
+    assert abs(from_file.mu - from_matrix.mu) <= 1e-9
+    run = wedged.enumerate(problem.K, 0.8, rigid_modes=R)
+    assert run.outcome == "wedged" and len(run.patterns) == 6
+    with pytest.raises(wedged.InputError, match="floats"):
+        wedged.enumerate(problem.K, 0.8, rigid_modes=R, method="pruned-dd")
+    with pytest.raises(wedged.InputError, match="rigid"):
+        wedged.critical(problem.K, rigid_modes=R[:-2])
+    with pytest.raises(wedged.InputError, match="rigid_modes"):
+        wedged.critical(problem.K)

@@ -274,6 +274,18 @@ def _matrix(K: Any) -> np.ndarray:
     return np.ascontiguousarray(array)
 
 
+def _modes(R: Any) -> Optional[np.ndarray]:
+    """A floating body's rigid modes as a C-contiguous float64 array (``None`` stays ``None``)."""
+    if R is None:
+        return None
+    R = np.ascontiguousarray(np.asarray(R, dtype=np.float64))
+    if R.ndim == 1:
+        R = R.reshape(-1, 1)
+    if R.ndim != 2:
+        raise InputError(f"rigid_modes must be a matrix (dim m x k), got {R.ndim} dimensions")
+    return R
+
+
 def _number(name: str, value: Any) -> Optional[float]:
     if value is None:
         return None
@@ -293,6 +305,7 @@ def enumerate(
     certify: bool = False,
     zero_tol: Optional[float] = None,
     progress: bool = False,
+    rigid_modes: Any = None,
 ) -> Enumeration:
     """Every wedged configuration of the condensed stiffness ``K`` at friction ``mu``.
 
@@ -301,7 +314,9 @@ def enumerate(
     (default ``pruned-dd`` in 2D, ``bnb`` in 3D). ``time_limit`` in seconds (the result is
     then marked incomplete); ``certify`` checks the answer in exact arithmetic (a failure
     raises :class:`InternalError`); ``progress`` draws the command's progress line on
-    stderr once the run has lasted a second.
+    stderr once the run has lasted a second. ``rigid_modes``: for a floating body, its free
+    rigid motions at the contact nodes (``dim m x k``, same frames, ``K R = 0``); the default
+    method is then ``bnb`` (the ray methods are for clamped bodies).
     """
     run = _wedged.enumerate(
         _matrix(K),
@@ -312,6 +327,7 @@ def enumerate(
         certify=bool(certify),
         zero_tol=_number("zero_tol", zero_tol),
         progress=bool(progress),
+        rigid_modes=_modes(rigid_modes),
     )
     return Enumeration._from_run(run)
 
@@ -325,11 +341,13 @@ def critical(
     certify: bool = False,
     tol: Optional[float] = None,
     progress: bool = False,
+    rigid_modes: Any = None,
 ) -> Critical:
     """The critical friction coefficient ``mu*`` of the condensed stiffness ``K``: the least
     ``mu`` at which WP has a solution ``(u, r) != 0``, bracketed to the relative width ``tol``
     (default 1e-9). ``method``: ``bnb`` (default), ``enumerate`` or ``faces``; ``certify``
-    checks every pruning decision behind ``lower`` and the witness at ``upper`` exactly."""
+    checks every pruning decision behind ``lower`` and the witness at ``upper`` exactly.
+    ``rigid_modes``: as in :func:`enumerate`, for a floating body."""
     text = _wedged.critical(
         _matrix(K),
         dim=int(dim),
@@ -338,6 +356,7 @@ def critical(
         certify=bool(certify),
         tol=_number("tol", tol),
         progress=bool(progress),
+        rigid_modes=_modes(rigid_modes),
     )
     return Critical._from_json(text)
 
@@ -354,6 +373,12 @@ class Problem:
     def K(self) -> np.ndarray:
         """The condensed stiffness, local frames, normal first."""
         return self._loaded.K
+
+    @property
+    def rigid_modes(self) -> Optional[np.ndarray]:
+        """A floating body's free rigid motions at the contact nodes (``dim m x k``, local
+        frames, ``K R = 0``); None for a held body."""
+        return self._loaded.rigid_modes
 
     @property
     def mu(self) -> Optional[float]:
