@@ -23,6 +23,8 @@ Problem file (TOML), a condensed stiffness:
                                #   (2D: n, t per node; 3D: n, t1, t2)
   matrix_market = \"K.mtx\"      # relative to the TOML file's directory, or:
   # rows = [[2.0, 1.0], [1.0, 1.0]]
+  # rigid_modes = \"R.mtx\"      # a floating body (K singular): its free rigid motions,
+                               #   dim*m x k, same frames, K R = 0 (a file or rows)
 
 or a meshed body, condensed onto its contact nodes:
   mu = 0.8
@@ -39,8 +41,8 @@ or a meshed body, condensed onto its contact nodes:
   plane = \"strain\"             # 2D: strain | stress
   [[contact]]                  # contact candidates against a rigid obstacle along the surface
   group = \"contact\"            # optional: normal = [nx, ny(, nz)], the body's inward normal
-  [[clamp]]                    # zero displacement
-  group = \"top\"
+  [[clamp]]                    # zero displacement (none: the body floats, held by the
+  group = \"top\"                #   walls alone; its pieces are then sign patterns)
   # [[symmetry]]               # roller: zero displacement along the group's normal
   # group = \"axis\"";
 

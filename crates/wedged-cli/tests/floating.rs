@@ -206,6 +206,10 @@ fn the_cork_demo_runs() {
         "{stdout}"
     );
     assert!(stdout.contains("mu* = 0.5000000"), "{stdout}");
+    assert!(
+        stdout.contains("the 3D cork") && stdout.contains("mu* = 0.350351"),
+        "{stdout}"
+    );
     for file in [
         "result.json",
         "pattern-0.svg",

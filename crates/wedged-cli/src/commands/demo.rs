@@ -61,17 +61,35 @@ pub(crate) fn run_demo(args: DemoArgs) -> Result<(), Failure> {
         },
     )?;
     // The same plug's mu*, by branch and bound.
+    let mut line = critical_line(&problem, "critical friction coefficient")?;
+    if args.cork {
+        // And the 3D cork's (a square frustum in a pyramidal seat, nothing clamped).
+        let (model, mu) = wedged::examples::cork3d_demo()
+            .map_err(|e| Failure::Internal(format!("the 3D cork: {e}")))?;
+        let cork3d = model
+            .problem(mu)
+            .map_err(|e| Failure::Internal(format!("the 3D cork: {e}")))?;
+        line.push_str(&critical_line(
+            &cork3d,
+            "the 3D cork (wedged::examples::cork3d_demo, walls at slope 0.3, corner edges \
+             0.42; examples/cork3d.toml)",
+        )?);
+    }
+    write_stdout(&line)
+}
+
+/// `mu*` of `problem` by branch and bound, as one paragraph of the demo's output.
+fn critical_line(problem: &wedged::Problem, what: &str) -> Result<String, Failure> {
     let settings = CriticalSettings::default();
-    let result = run_critical_library(&problem, &settings, "demo", &INTERRUPTED, Show::Terminal)?;
-    let line = match report::critical::answer_line(&result, settings.tol) {
-        Some(answer) => format!("\ncritical friction coefficient: {answer}\n"),
+    let result = run_critical_library(problem, &settings, "demo", &INTERRUPTED, Show::Terminal)?;
+    Ok(match report::critical::answer_line(&result, settings.tol) {
+        Some(answer) => format!("\n{what}: {answer}\n"),
         None => format!(
-            "\ncritical friction coefficient: not found ({})\n",
+            "\n{what}: not found ({})\n",
             match result.status {
                 CriticalStatus::Incomplete(stop) => stop.to_string(),
                 _ => "no answer".to_string(),
             }
         ),
-    };
-    write_stdout(&line)
+    })
 }

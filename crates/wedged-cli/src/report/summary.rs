@@ -641,9 +641,17 @@ pub fn model(source: &str, model: &Model) -> String {
     } else {
         String::new()
     };
+    // A floating body: the rigid motions that nothing stops (README, "Floating bodies").
+    let floating = match model.rigid_modes().ncols() {
+        0 => String::new(),
+        k => format!(
+            "; the body floats: {} free",
+            plural(k, "rigid motion", "rigid motions")
+        ),
+    };
     let _ = writeln!(
         out,
-        "  {} dofs: {}{clamped_contact}, {}, {}",
+        "  {} dofs: {}{clamped_contact}, {}, {}{floating}",
         stats.dofs,
         plural(b.contact_nodes.len(), "contact node", "contact nodes"),
         plural(b.clamped.len(), "clamped node", "clamped nodes"),

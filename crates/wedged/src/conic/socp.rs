@@ -254,46 +254,6 @@ pub(crate) fn solve(p: &Program) -> (Answer, SolveStats) {
     (answer, stats)
 }
 
-/// A linear program (no cone constraint) that Clarabel could not decide, by the in-house
-/// simplex method ([`super::simplex`]), which needs no interior (the programs of a floating
-/// body pinned between its walls often have none). Its answers are checked in its own form: an
-/// optimum's bounds against recomputed activities, an infeasibility by its certificate. The
-/// certificate is not returned (its multipliers are in the simplex method's form): an
-/// infeasible answer carries an empty `y`, which an exact re-check treats as no certificate.
-/// `None` for a program with a cone constraint.
-fn by_simplex(form: &Form) -> Option<Result<Answer, String>> {
-    use super::simplex;
-    if form.cons.iter().any(|c| c.kind == Kind::Soc) {
-        return None;
-    }
-    let (n, rows) = (form.n, form.rows.len());
-    let mut lp = simplex::Lp::new(n, rows);
-    for (k, row) in form.rows.iter().enumerate() {
-        for &(j, c) in &row.terms {
-            lp.a[k * n + j] = c;
-        }
-    }
-    for con in &form.cons {
-        for k in con.start..con.start + con.len {
-            // e = terms . x + constant: zero, or >= 0.
-            let at = -form.rows[k].constant;
-            lp.lo[n + k] = at;
-            if con.kind == Kind::Zero {
-                lp.hi[n + k] = at;
-            }
-        }
-    }
-    lp.cost[..n].copy_from_slice(&form.q);
-    Some(match simplex::solve(&lp, None).0 {
-        simplex::Answer::Optimal { x, value } => Ok(Answer::Optimal {
-            x: x[..n].to_vec(),
-            value,
-        }),
-        simplex::Answer::Infeasible { .. } => Ok(Answer::Infeasible { y: Vec::new() }),
-        simplex::Answer::Failed(why) => Err(why),
-    })
-}
-
 /// The answer for a program without variables: optimal at `x = []` when every constraint holds
 /// exactly, infeasible otherwise (the violated constant is its own certificate).
 fn constant_answer(form: &Form) -> Answer {
@@ -812,6 +772,9 @@ fn check_certificate(form: &Form, y: &[f64]) -> Result<Vec<f64>, String> {
     }
     Ok(y)
 }
+
+mod fallback;
+use fallback::by_simplex;
 
 #[cfg(test)]
 mod tests;

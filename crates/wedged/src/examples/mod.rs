@@ -84,6 +84,34 @@ pub fn cork2d_demo() -> Result<(crate::fe::Model, f64), crate::fe::FeError> {
     Ok((model, CORK2D_DEMO_MU))
 }
 
+/// The 3D cork of `wedged demo --cork` (and `examples/cork3d.toml`): a square frustum (bottom
+/// side 1, top side 1.6, height 1: faces at slope 0.3 off vertical) in a pyramidal seat,
+/// 2 x 2 x 1 hexahedra, nothing clamped; 16 contact nodes on the four slanted faces. Its `mu*` is
+/// 0.35035, between the faces' slope and the corner edges' `0.3 sqrt(2)`.
+pub fn cork3d_demo() -> Result<(crate::fe::Model, f64), crate::fe::FeError> {
+    use crate::fe::generate::Frustum;
+    use crate::fe::{BoundarySpec, ContactSpec, Material, Model, Plane};
+    let mesh = Frustum {
+        bottom_width: 1.0,
+        top_width: 1.6,
+        height: 1.0,
+        n: 2,
+        nz: 1,
+        simplices: false,
+    }
+    .mesh()?;
+    let spec = BoundarySpec {
+        contact: vec![ContactSpec {
+            group: "contact".to_string(),
+            normal: None,
+        }],
+        clamp: vec![],
+        symmetry: vec![],
+    };
+    let model = Model::build(mesh, Material::new(10e6, 0.3, Plane::Strain)?, &spec)?;
+    Ok((model, 0.5))
+}
+
 /// Friction coefficient of the cork demo (above its `mu* = 0.5`).
 pub const CORK2D_DEMO_MU: f64 = 0.8;
 
