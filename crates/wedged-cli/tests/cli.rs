@@ -122,6 +122,7 @@ fn check_report(report: &Value, k: &DMatrix<f64>) {
         "dim",
         "mu",
         "nodes",
+        "rigid_modes",
         "method",
         "outcome",
         "complete",
@@ -138,7 +139,7 @@ fn check_report(report: &Value, k: &DMatrix<f64>) {
         assert!(keys.contains(&key), "missing {key} in {keys:?}");
     }
     // `model` is there for a meshed body only.
-    let expected = 15 + usize::from(keys.contains(&"model"));
+    let expected = 16 + usize::from(keys.contains(&"model"));
     assert_eq!(keys.len(), expected, "{keys:?}");
     let info = report["info"].as_object().unwrap();
     let ray_method =
@@ -994,6 +995,7 @@ fn check_critical_keys(report: &Value) {
         "source",
         "dim",
         "nodes",
+        "rigid_modes",
         "method",
         "status",
         "complete",
