@@ -62,7 +62,7 @@ pub fn plug2d_demo() -> Result<(crate::fe::Model, f64), crate::fe::FeError> {
 /// it wedges. Its `mu*` is `tan(atan(1/2)) = 0.5`, the equilibrium bound.
 pub fn cork2d_demo() -> Result<(crate::fe::Model, f64), crate::fe::FeError> {
     use crate::fe::generate::Plug2d;
-    use crate::fe::{BoundarySpec, ContactSpec, Material, Model, Plane};
+    use crate::fe::{Material, Model, Plane};
     let mesh = Plug2d {
         bottom_width: 1.0,
         top_width: 2.0,
@@ -72,15 +72,11 @@ pub fn cork2d_demo() -> Result<(crate::fe::Model, f64), crate::fe::FeError> {
         simplices: false,
     }
     .mesh()?;
-    let spec = BoundarySpec {
-        contact: vec![ContactSpec {
-            group: "contact".to_string(),
-            normal: None,
-        }],
-        clamp: vec![],
-        symmetry: vec![],
-    };
-    let model = Model::build(mesh, Material::new(10e6, 0.3, Plane::Strain)?, &spec)?;
+    let model = Model::build(
+        mesh,
+        Material::new(10e6, 0.3, Plane::Strain)?,
+        &plug_spec(false),
+    )?;
     Ok((model, CORK2D_DEMO_MU))
 }
 
@@ -90,7 +86,7 @@ pub fn cork2d_demo() -> Result<(crate::fe::Model, f64), crate::fe::FeError> {
 /// 0.35035, between the faces' slope and the corner edges' `0.3 sqrt(2)`.
 pub fn cork3d_demo() -> Result<(crate::fe::Model, f64), crate::fe::FeError> {
     use crate::fe::generate::Frustum;
-    use crate::fe::{BoundarySpec, ContactSpec, Material, Model, Plane};
+    use crate::fe::{Material, Model, Plane};
     let mesh = Frustum {
         bottom_width: 1.0,
         top_width: 1.6,
@@ -100,15 +96,11 @@ pub fn cork3d_demo() -> Result<(crate::fe::Model, f64), crate::fe::FeError> {
         simplices: false,
     }
     .mesh()?;
-    let spec = BoundarySpec {
-        contact: vec![ContactSpec {
-            group: "contact".to_string(),
-            normal: None,
-        }],
-        clamp: vec![],
-        symmetry: vec![],
-    };
-    let model = Model::build(mesh, Material::new(10e6, 0.3, Plane::Strain)?, &spec)?;
+    let model = Model::build(
+        mesh,
+        Material::new(10e6, 0.3, Plane::Strain)?,
+        &plug_spec(false),
+    )?;
     Ok((model, 0.5))
 }
 
@@ -217,18 +209,23 @@ fn steel_plug(mesh: crate::fe::Mesh) -> Result<crate::fe::Model, crate::fe::FeEr
     Model::build(
         mesh,
         Material::new(210e9, 0.3, Plane::Strain)?,
-        &plug_spec(),
+        &plug_spec(true),
     )
 }
 
-/// Contact on the generated group `contact`, clamp on `top`.
-fn plug_spec() -> crate::fe::BoundarySpec {
+/// Contact on the generated group `contact`, and with `clamp` a clamp on `top` (without, the
+/// body floats: the corks).
+fn plug_spec(clamp: bool) -> crate::fe::BoundarySpec {
     crate::fe::BoundarySpec {
         contact: vec![crate::fe::ContactSpec {
             group: "contact".to_string(),
             normal: None,
         }],
-        clamp: vec!["top".to_string()],
+        clamp: if clamp {
+            vec!["top".to_string()]
+        } else {
+            vec![]
+        },
         symmetry: vec![],
     }
 }

@@ -647,8 +647,9 @@ fn free_rigid_modes(mesh: &Mesh, boundary: &Boundary) -> Result<DMatrix<f64>, Fe
     }))
 }
 
-/// Two used nodes in different connected parts of the mesh, if it has more than one.
-fn two_parts(mesh: &Mesh) -> Option<(usize, usize)> {
+/// The connected part of each node of the mesh: a representative node, the same for every node
+/// of a part (union-find over the elements, paths fully compressed).
+fn parts(mesh: &Mesh) -> Vec<usize> {
     let n = mesh.node_count();
     let mut parent: Vec<usize> = (0..n).collect();
     fn find(parent: &mut [usize], mut a: usize) -> usize {
@@ -665,58 +666,38 @@ fn two_parts(mesh: &Mesh) -> Option<(usize, usize)> {
             parent[r] = r0;
         }
     }
+    (0..n).map(|a| find(&mut parent, a)).collect()
+}
+
+/// Two used nodes in different connected parts of the mesh, if it has more than one.
+fn two_parts(mesh: &Mesh) -> Option<(usize, usize)> {
+    let part = parts(mesh);
     let used = mesh.used_nodes();
-    let mut first: Option<(usize, usize)> = None;
-    for a in (0..n).filter(|&a| used[a]) {
-        let r = find(&mut parent, a);
-        match first {
-            None => first = Some((a, r)),
-            Some((b, root)) if root != r => return Some((b, a)),
-            _ => {}
-        }
-    }
-    None
+    let mut nodes = (0..part.len()).filter(|&a| used[a]);
+    let first = nodes.next()?;
+    nodes
+        .find(|&a| part[a] != part[first])
+        .map(|other| (first, other))
 }
 
 fn check_held(mesh: &Mesh, nodes: &[NodeDofs]) -> Result<(), FeError> {
     let n = mesh.node_count();
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn find(parent: &mut [usize], mut a: usize) -> usize {
-        while parent[a] != a {
-            parent[a] = parent[parent[a]];
-            a = parent[a];
-        }
-        a
-    }
-    for e in mesh.elements() {
-        let r0 = find(&mut parent, e.nodes[0]);
-        for &a in &e.nodes[1..] {
-            let r = find(&mut parent, a);
-            parent[r] = r0;
-        }
-    }
+    let part = parts(mesh);
     let mut held = vec![false; n];
     for (a, slot) in nodes.iter().enumerate() {
         // Every node but a free one (axes basis) holds its part: contact, clamped (Fixed),
         // roller. An unused node is Fixed too, but it is alone in its part.
         let anchored = !matches!(slot, NodeDofs::Other { identity: true, .. });
         if anchored {
-            let r = find(&mut parent, a);
-            held[r] = true;
+            held[part[a]] = true;
         }
     }
     let used = mesh.used_nodes();
-    for (a, &is_used) in used.iter().enumerate() {
-        if is_used {
-            let r = find(&mut parent, a);
-            if !held[r] {
-                return Err(FeError::NotHeld(format!(
-                    "the part of the mesh containing node {} touches no contact, clamp or \
-                     symmetry group",
-                    a + 1
-                )));
-            }
-        }
+    if let Some(a) = (0..n).find(|&a| used[a] && !held[part[a]]) {
+        return Err(FeError::NotHeld(format!(
+            "the part of the mesh containing node {} touches no contact, clamp or symmetry group",
+            a + 1
+        )));
     }
     Ok(())
 }
