@@ -54,6 +54,7 @@ pub mod problem;
 pub(crate) mod rational;
 pub mod rays;
 pub mod run;
+pub mod shard;
 pub mod solution;
 
 /// The exact certificate of a 2D ray enumeration ([`rays::certify`]).
@@ -76,6 +77,7 @@ pub use rays::{enumerate, enumerate_with_control, Enumeration, Info, Method, Pro
 #[doc(hidden)]
 pub use run::Fault;
 pub use run::{EnumerateError, Error, Limits, Outcome, Stop};
+pub use shard::{Shard, ShardReport};
 pub use solution::{Cone, ContactPattern, NodeStatus, Ray};
 
 /// The README's Rust example, run as a doctest.

@@ -71,6 +71,17 @@ impl ContactPattern {
             ContactPattern::Grazing => "grazing",
         }
     }
+
+    /// The pattern of a [`ContactPattern::name`].
+    pub fn from_name(name: &str) -> Option<ContactPattern> {
+        [
+            ContactPattern::Contact,
+            ContactPattern::Separated,
+            ContactPattern::Grazing,
+        ]
+        .into_iter()
+        .find(|p| p.name() == name)
+    }
 }
 
 /// A complementary extreme ray of `C`: a wedged configuration, normalised to `sum r_n = 1`.

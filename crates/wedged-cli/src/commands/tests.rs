@@ -110,6 +110,7 @@ fn incomplete_pattern_runs_say_why_without_node_counts() {
         }],
         info: PatternInfo::default(),
         certificate: None,
+        shard: None,
     };
     let text = incomplete_text(
         "p.toml",

@@ -651,6 +651,7 @@ mod tests {
                 ..PatternInfo::default()
             },
             certificate: None,
+            shard: None,
         });
         let choice = Choice::Patterns(PatternSettings {
             method: PatternMethod::Pyramid { faces: 12 },

@@ -22,14 +22,12 @@ use super::{leaf_pattern, Found, PatternInfo, Undecided};
 use crate::conic::program::{Class, Decision, Entry, Formulation, Goal, Norm, POSITIVE};
 use crate::rays::Progress;
 use crate::run::Control;
+use crate::shard::{self, Shard, Walk};
 use crate::solution::ContactPattern;
 
 /// A witness's gap or reaction component at most this (with `sum r_n = 1`) counts as zero when
 /// deciding whether a child can inherit it: the solver's accuracy, far below [`POSITIVE`].
 const INHERIT_ZERO: f64 = 1e-9;
-
-/// Explored fractions are counted in units of `2^-FRACTION_BITS` of the tree.
-const FRACTION_BITS: usize = 62;
 
 struct Search<'a, 'b> {
     form: &'a Formulation<'b>,
@@ -41,25 +39,32 @@ struct Search<'a, 'b> {
     pruned_infeasible: AtomicU64,
     pruned_unpressed: AtomicU64,
     leaves: AtomicU64,
-    /// The explored fraction of the tree, in units of `2^-FRACTION_BITS`.
-    explored: AtomicU64,
 }
 
-impl Search<'_, '_> {
-    fn close(&self, depth: usize) {
-        if depth <= FRACTION_BITS {
-            self.explored
-                .fetch_add(1u64 << (FRACTION_BITS - depth), Ordering::Relaxed);
+/// A search node: the class of every node and, perhaps, a solution of its relaxation passed
+/// down from the parent, whose smallest pressure over the nodes in contact is positive: the
+/// node is then not pruned, which is always safe, and its program is not solved.
+struct Node {
+    classes: Vec<Class>,
+    inherited: Option<Vec<f64>>,
+}
+
+impl shard::Tree for Search<'_, '_> {
+    type Node = Node;
+
+    fn root(&self) -> Node {
+        Node {
+            classes: vec![Class::Free; self.form.m],
+            inherited: None,
         }
     }
 
-    /// Explores the subtree of `classes`. `inherited` is a solution of its relaxation passed
-    /// down from the parent, whose smallest pressure over the nodes in contact is positive: the
-    /// node is then not pruned, which is always safe, and its program is not solved.
-    fn explore(&self, classes: Vec<Class>, depth: usize, inherited: Option<Vec<f64>>) {
+    /// Decides the node: a leaf or a prune ends its subtree; otherwise its children.
+    fn visit(&self, node: Node, _depth: usize, rehearsal: bool) -> Option<(Node, Node)> {
         if self.control.must_stop(0) {
-            return;
+            return None;
         }
+        let Node { classes, inherited } = node;
         let m = self.form.m;
         let press: Vec<Entry> = (0..m)
             .filter(|&i| classes[i] == Class::Contact)
@@ -67,6 +72,10 @@ impl Search<'_, '_> {
             .collect();
         let free: Vec<usize> = (0..m).filter(|&i| classes[i] == Class::Free).collect();
         if free.is_empty() {
+            if rehearsal {
+                // The shard's own walk decides it again.
+                return None;
+            }
             let contact: Vec<bool> = classes.iter().map(|&c| c == Class::Contact).collect();
             self.leaves.fetch_add(1, Ordering::Relaxed);
             match leaf_pattern(self.form, &contact) {
@@ -78,8 +87,7 @@ impl Search<'_, '_> {
                     .expect("no panics while held")
                     .push(Undecided { contact, reason }),
             }
-            self.close(depth);
-            return;
+            return None;
         }
         let goal = if press.is_empty() {
             Goal::Feasible
@@ -100,8 +108,7 @@ impl Search<'_, '_> {
         let witness = match decision {
             Decision::No => {
                 self.pruned_infeasible.fetch_add(1, Ordering::Relaxed);
-                self.close(depth);
-                return;
+                return None;
             }
             Decision::Yes { value, .. }
                 if !press.is_empty() && value <= POSITIVE && {
@@ -111,8 +118,7 @@ impl Search<'_, '_> {
                 } =>
             {
                 self.pruned_unpressed.fetch_add(1, Ordering::Relaxed);
-                self.close(depth);
-                return;
+                return None;
             }
             Decision::Yes { r, .. } => Some(r),
             // Not decided: no pruning, branch on the first free node.
@@ -160,10 +166,16 @@ impl Search<'_, '_> {
         contact[branch] = Class::Contact;
         let mut separated = classes;
         separated[branch] = Class::Separated;
-        rayon::join(
-            || self.explore(contact, depth + 1, to_contact),
-            || self.explore(separated, depth + 1, to_separated),
-        );
+        Some((
+            Node {
+                classes: contact,
+                inherited: to_contact,
+            },
+            Node {
+                classes: separated,
+                inherited: to_separated,
+            },
+        ))
     }
 }
 
@@ -171,6 +183,7 @@ impl Search<'_, '_> {
 pub(super) fn run(
     form: &Formulation,
     info: &mut PatternInfo,
+    shard: Option<Shard>,
     progress: &dyn Fn(Progress),
     control: &Control,
 ) -> Found {
@@ -184,20 +197,16 @@ pub(super) fn run(
         pruned_infeasible: AtomicU64::new(0),
         pruned_unpressed: AtomicU64::new(0),
         leaves: AtomicU64::new(0),
-        explored: AtomicU64::new(0),
     };
-    let report = |search: &Search| {
-        let fraction = search.explored.load(Ordering::Relaxed) as f64 / (1u64 << 62) as f64;
+    let walk = Walk::new(&search);
+    let report = || {
         progress(Progress {
-            done: (fraction * 1000.0).round() as usize,
+            done: (walk.explored() * 1000.0).round() as usize,
             total: 1000,
             rays: search.found.lock().map_or(0, |f| f.len()),
         });
     };
-    crate::run::with_progress(
-        || search.explore(vec![Class::Free; form.m], 0, None),
-        || report(&search),
-    );
+    let split = crate::run::with_progress(|| walk.run(shard), report);
     info.nodes_visited = search.visited.into_inner();
     info.nodes_inherited = search.inherited.into_inner();
     info.pruned_infeasible = search.pruned_infeasible.into_inner();
@@ -206,5 +215,6 @@ pub(super) fn run(
     Found {
         patterns: search.found.into_inner().unwrap_or_default(),
         undecided: search.undecided.into_inner().unwrap_or_default(),
+        shard: split,
     }
 }

@@ -15,6 +15,7 @@ pub(super) fn run(form: &Formulation, info: &mut PatternInfo, control: &Control)
     let mut found = Found {
         patterns: Vec::new(),
         undecided: Vec::new(),
+        shard: None,
     };
     for set in 1u64..(1u64 << m) {
         if control.must_stop(0) {

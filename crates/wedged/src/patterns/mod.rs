@@ -26,6 +26,7 @@
 mod bnb;
 mod certify;
 mod faces;
+mod merge;
 
 mod pyramid;
 mod search;
@@ -38,8 +39,10 @@ use crate::conic::program::{
     self, describe, leaf_classes, Class, Counters, Entry, Formulation, Norm, POSITIVE,
 };
 pub use certify::PatternCertificate;
+pub use merge::{check_shards, keep_maximal, merge_shards};
 
 use crate::run::{check_zero_tol, Control, EnumerateError, Limits, Outcome, Stop};
+use crate::shard::{Shard, ShardReport};
 
 use crate::solution::{check_balance, ContactPattern, NodeStatus};
 
@@ -101,6 +104,11 @@ pub struct PatternSettings {
     /// the search took is backed by an infeasibility certificate, checked exactly afterwards
     /// with each witness. Off by default (it adds programs and exact arithmetic).
     pub certify: bool,
+    /// Run one shard of the search only ([`crate::shard`]; `bnb` and `pattern-search`): its
+    /// answer holds the maximal patterns of its part of the tree, and the union of all the
+    /// shards' answers, without the patterns that another contains, is the one-run answer.
+    /// `None` (the default): the whole search.
+    pub shard: Option<Shard>,
 }
 
 impl Default for PatternSettings {
@@ -110,6 +118,7 @@ impl Default for PatternSettings {
             zero_tol: 1e-9,
             limits: Limits::default(),
             certify: false,
+            shard: None,
         }
     }
 }
@@ -201,12 +210,16 @@ pub struct Patterns {
     pub info: PatternInfo,
     /// The exact certificate, when [`PatternSettings::certify`] asked for one.
     pub certificate: Option<PatternCertificate>,
+    /// How the search was split, for a run of one shard ([`PatternSettings::shard`]).
+    pub shard: Option<ShardReport>,
 }
 
 /// What a method hands to the finishing step: realised patterns (not necessarily maximal).
 pub(crate) struct Found {
     pub patterns: Vec<Vec<ContactPattern>>,
     pub undecided: Vec<Undecided>,
+    /// How a sharded search was split.
+    pub shard: Option<ShardReport>,
 }
 
 /// Enumerates the maximal realised sign patterns of a 2D or 3D problem.
@@ -250,6 +263,15 @@ pub fn enumerate_patterns_with_control(
         }
         _ => {}
     }
+    if settings.shard.is_some()
+        && !matches!(settings.method, PatternMethod::Bnb | PatternMethod::Search)
+    {
+        return Err(EnumerateError::InvalidSettings(format!(
+            "shards split a search tree (the methods bnb and pattern-search); the {} method \
+             has none",
+            settings.method.name()
+        )));
+    }
     let start = Instant::now();
     // The search runs in per-node units that bring K's diagonal near 1 (exactly equivalent, see
     // Problem::equilibrated); each witness is mapped back and checked again at the end.
@@ -268,12 +290,15 @@ pub fn enumerate_patterns_with_control(
         Found {
             patterns: Vec::new(),
             undecided: Vec::new(),
+            shard: None,
         }
     } else {
         match settings.method {
-            PatternMethod::Bnb => bnb::run(&form, &mut info, progress, &control),
+            PatternMethod::Bnb => bnb::run(&form, &mut info, settings.shard, progress, &control),
             PatternMethod::Faces => faces::run(&form, &mut info, &control),
-            PatternMethod::Search => search::run(&form, &mut info, progress, &control),
+            PatternMethod::Search => {
+                search::run(&form, &mut info, settings.shard, progress, &control)
+            }
             PatternMethod::Pyramid { faces } => pyramid::run(
                 &form,
                 faces,
@@ -285,6 +310,7 @@ pub fn enumerate_patterns_with_control(
         }
     };
     info.realised = found.patterns.len() as u64;
+    let shard = found.shard;
     let mut patterns = Vec::new();
     // The witnesses in the units the search ran in, for the certificate.
     let mut scaled = Vec::new();
@@ -333,6 +359,7 @@ pub fn enumerate_patterns_with_control(
         undecided,
         info,
         certificate,
+        shard,
     })
 }
 

@@ -59,6 +59,7 @@ pub(super) fn run(
     let mut found = Found {
         patterns: Vec::new(),
         undecided: Vec::new(),
+        shard: None,
     };
     if control.stopped().is_some() {
         return found;

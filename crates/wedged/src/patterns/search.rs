@@ -22,17 +22,19 @@ use crate::conic::program::{leaf_classes, Formulation};
 use crate::rays::search::tree::search;
 use crate::rays::Progress;
 use crate::run::Control;
+use crate::shard::Shard;
 use crate::solution::ContactPattern;
 
 pub(super) fn run(
     form: &Formulation,
     info: &mut PatternInfo,
+    shard: Option<Shard>,
     progress: &dyn Fn(Progress),
     control: &Control,
 ) -> Found {
     let m = form.m;
     let lp = ContactLp::new(form);
-    let tree = search(&lp, control, progress);
+    let tree = search(&lp, control, shard, progress);
     info.nodes_visited = tree.nodes;
     info.nodes_inherited = tree.inherited;
     info.pruned_infeasible = tree.pruned;
@@ -64,6 +66,7 @@ pub(super) fn run(
     let mut found = Found {
         patterns: Vec::new(),
         undecided: Vec::new(),
+        shard: tree.shard,
     };
     let counters = &lp.counters;
     info.lp_solves = counters.solves.load(Ordering::Relaxed);

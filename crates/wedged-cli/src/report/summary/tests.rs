@@ -119,6 +119,7 @@ fn undecided_run() -> (Problem, Patterns) {
             ..PatternInfo::default()
         },
         certificate: None,
+        shard: None,
     };
     (problem, result)
 }

@@ -39,6 +39,7 @@ use crate::conic::node_lp::{self, Shape, Warm as Basis};
 use crate::conic::program::{Class, Decision, Norm, POSITIVE};
 use crate::rays::Progress;
 use crate::run::{with_progress, Control};
+use crate::shard::{self, Shard, ShardReport, Walk};
 
 /// A solution's gap or reaction component at most this (with `sum r_n = 1`, gaps scaled) counts
 /// as zero when deciding whether a child inherits it.
@@ -52,9 +53,6 @@ const INHERIT_ZERO: f64 = 1e-9;
 /// 21.0, 21.6, 19.5, 24.0 s (85k, 52k, 24k, 21k nodes).)
 const TIGHTEN_DEPTH: usize = 3;
 const TIGHTEN_PER_DEPTH: usize = 15;
-
-/// Explored fractions are counted in units of `2^-FRACTION_BITS` of the tree.
-const FRACTION_BITS: usize = 62;
 
 /// What the search found and what it cost.
 #[derive(Debug, Default)]
@@ -72,22 +70,41 @@ pub(crate) struct Tree {
     pub pruned: u64,
     /// Nodes that tightened the drive bounds.
     pub tightened: u64,
+    /// How the search was split, for one shard of it.
+    pub shard: Option<ShardReport>,
 }
 
-/// Searches the contact sets of `lp`'s formulation (both 2D search methods), reporting the
-/// explored share of the tree (`done` of `total`) and the leaves found (`rays`) to `progress`
-/// from the calling thread.
-pub(crate) fn search(lp: &ContactLp, control: &Control, progress: &dyn Fn(Progress)) -> Tree {
+/// Searches the contact sets of `lp`'s formulation (both 2D search methods), the whole tree or
+/// `shard`'s part of it ([`crate::shard`]), reporting the explored share (`done` of `total`)
+/// and the leaves found (`rays`) to `progress` from the calling thread.
+pub(crate) fn search(
+    lp: &ContactLp,
+    control: &Control,
+    shard: Option<Shard>,
+    progress: &dyn Fn(Progress),
+) -> Tree {
     let search = Search::new(lp, control);
+    let walk = Walk::new(&search);
     let report = || {
         progress(Progress {
-            done: (search.explored() * 1000.0).round() as usize,
+            done: (walk.explored() * 1000.0).round() as usize,
             total: 1000,
             rays: search.leaves_found(),
         })
     };
-    with_progress(|| search.run(), report);
-    search.finish()
+    let split = with_progress(|| walk.run(shard), report);
+    let mut tree = search.finish();
+    tree.shard = split;
+    tree
+}
+
+/// A search node: the class of every node, a solution of its program handed down by the
+/// parent (then nothing is solved), the parent's final basis and the cuts known so far.
+pub(crate) struct Node {
+    classes: Vec<Class>,
+    inherited: Option<Vec<f64>>,
+    warm: Option<Arc<Basis>>,
+    drive: Option<Arc<Drive>>,
 }
 
 struct Search<'a, 'f> {
@@ -99,8 +116,6 @@ struct Search<'a, 'f> {
     nodes: AtomicU64,
     inherited: AtomicU64,
     pruned: AtomicU64,
-    /// The explored fraction of the tree, in units of `2^-FRACTION_BITS`.
-    explored: AtomicU64,
     /// Search nodes above this depth tighten the drive bounds ([`tighten_depth`]).
     tighten_depth: usize,
     tightened: AtomicU64,
@@ -118,24 +133,14 @@ impl<'a, 'f> Search<'a, 'f> {
             nodes: AtomicU64::new(0),
             inherited: AtomicU64::new(0),
             pruned: AtomicU64::new(0),
-            explored: AtomicU64::new(0),
             tighten_depth: tighten_depth(m),
             tightened: AtomicU64::new(0),
         }
     }
 
-    /// The explored share of the tree, in `[0, 1]`.
-    fn explored(&self) -> f64 {
-        self.explored.load(Ordering::Relaxed) as f64 / (1u64 << FRACTION_BITS) as f64
-    }
-
     /// Leaves found so far.
     fn leaves_found(&self) -> usize {
         self.leaves.lock().map_or(0, |l| l.len())
-    }
-
-    fn run(&self) {
-        self.explore(vec![Class::Free; self.m], 0, None, None, None);
     }
 
     fn finish(self) -> Tree {
@@ -146,29 +151,34 @@ impl<'a, 'f> Search<'a, 'f> {
             inherited: self.inherited.into_inner(),
             pruned: self.pruned.into_inner(),
             tightened: self.tightened.into_inner(),
+            shard: None,
+        }
+    }
+}
+
+impl shard::Tree for Search<'_, '_> {
+    type Node = Node;
+
+    fn root(&self) -> Node {
+        Node {
+            classes: vec![Class::Free; self.m],
+            inherited: None,
+            warm: None,
+            drive: None,
         }
     }
 
-    fn close(&self, depth: usize) {
-        if depth <= FRACTION_BITS {
-            self.explored
-                .fetch_add(1u64 << (FRACTION_BITS - depth), Ordering::Relaxed);
-        }
-    }
-
-    /// Explores the subtree of `classes`. `inherited` is a solution of its program handed down
-    /// by the parent (then nothing is solved); `warm` the parent's final basis.
-    fn explore(
-        &self,
-        classes: Vec<Class>,
-        depth: usize,
-        inherited: Option<Vec<f64>>,
-        warm: Option<Arc<Basis>>,
-        drive: Option<Arc<Drive>>,
-    ) {
+    /// Decides the node: a prune or a leaf ends its subtree; otherwise its children.
+    fn visit(&self, node: Node, depth: usize, rehearsal: bool) -> Option<(Node, Node)> {
         if self.control.must_stop(0) {
-            return;
+            return None;
         }
+        let Node {
+            classes,
+            inherited,
+            warm,
+            drive,
+        } = node;
         self.nodes.fetch_add(1, Ordering::Relaxed);
         let m = self.m;
         let contact: Vec<usize> = (0..m).filter(|&i| classes[i] == Class::Contact).collect();
@@ -176,8 +186,7 @@ impl<'a, 'f> Search<'a, 'f> {
         if contact.is_empty() && free.is_empty() {
             // Every node separated: only r = 0.
             self.pruned.fetch_add(1, Ordering::Relaxed);
-            self.close(depth);
-            return;
+            return None;
         }
         let form = self.lp.form();
         let counters = &self.lp.counters;
@@ -208,8 +217,7 @@ impl<'a, 'f> Search<'a, 'f> {
             };
             let Some(tight) = tight else {
                 self.pruned.fetch_add(1, Ordering::Relaxed);
-                self.close(depth);
-                return;
+                return None;
             };
             drive = Some(Arc::new(tight));
             // The inherited solution may break the new cuts: solve again.
@@ -254,8 +262,7 @@ impl<'a, 'f> Search<'a, 'f> {
                 match decision {
                     Decision::No => {
                         self.pruned.fetch_add(1, Ordering::Relaxed);
-                        self.close(depth);
-                        return;
+                        return None;
                     }
                     Decision::Yes { r, .. } => (Some(r), basis),
                     Decision::Unsure(_) => {
@@ -267,9 +274,10 @@ impl<'a, 'f> Search<'a, 'f> {
         };
         if free.is_empty() {
             let leaf: Vec<bool> = classes.iter().map(|&c| c == Class::Contact).collect();
-            self.leaves.lock().expect("no panics while held").push(leaf);
-            self.close(depth);
-            return;
+            if !rehearsal {
+                self.leaves.lock().expect("no panics while held").push(leaf);
+            }
+            return None;
         }
         let branch = match &witness {
             None => free[0],
@@ -307,12 +315,20 @@ impl<'a, 'f> Search<'a, 'f> {
         contact_child[branch] = Class::Contact;
         let mut separated_child = classes;
         separated_child[branch] = Class::Separated;
-        let other = basis.clone();
-        let other_drive = drive.clone();
-        rayon::join(
-            || self.explore(contact_child, depth + 1, to_contact, basis, drive),
-            || self.explore(separated_child, depth + 1, to_separated, other, other_drive),
-        );
+        Some((
+            Node {
+                classes: contact_child,
+                inherited: to_contact,
+                warm: basis.clone(),
+                drive: drive.clone(),
+            },
+            Node {
+                classes: separated_child,
+                inherited: to_separated,
+                warm: basis,
+                drive,
+            },
+        ))
     }
 }
 
