@@ -100,6 +100,10 @@ pub(crate) enum Command {
     /// and its critical friction coefficient.
     #[command(after_help = EXIT_CODES)]
     Demo(DemoArgs),
+    /// Merge the parts of a sharded run (`enumerate --shard I/N --json PART`) into the JSON one
+    /// run writes; a missing shard is named and the merge is then marked incomplete (exit 3).
+    #[command(after_help = EXIT_CODES)]
+    Merge(MergeArgs),
 }
 
 #[derive(Debug, Args)]
@@ -263,6 +267,22 @@ pub(crate) struct EnumerateArgs {
     /// their statuses and the cones are provably all of them. Slower than pruned-dd.
     #[arg(long)]
     pub(crate) exact: bool,
+    /// Run shard I of N of the search only, and write it with --json as a part for `wedged
+    /// merge` (a cluster job array: one shard per task; see examples/slurm). Every shard
+    /// computes the same split, so the parts need no other coordination. Splits the search of
+    /// --method bnb or pattern-search (the default with --shard in 2D).
+    #[arg(long, value_name = "I/N", value_parser = wedged::Shard::parse)]
+    pub(crate) shard: Option<wedged::Shard>,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct MergeArgs {
+    /// The parts: the JSON files of `wedged enumerate FILE --shard I/N --json PART`, one per
+    /// shard.
+    #[arg(required = true, value_name = "PART.json")]
+    pub(crate) parts: Vec<PathBuf>,
+    #[command(flatten)]
+    pub(crate) json: JsonArg,
 }
 
 #[derive(Debug, Args)]

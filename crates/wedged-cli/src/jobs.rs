@@ -109,6 +109,9 @@ pub struct EnumerateOptions {
     pub certify: bool,
     /// `--exact`.
     pub exact: bool,
+    /// `--shard I/N`: one shard of the search (pattern methods with a tree: `bnb`,
+    /// `pattern-search`, the default with a shard).
+    pub shard: Option<wedged::Shard>,
 }
 
 /// The method and settings that `options` ask for on `problem` (`source` names the problem in
@@ -152,6 +155,10 @@ pub fn plan_enumerate(
     let method = match options.method {
         Some(m) => m,
         None if options.exact => MethodArg::Rays(Method::Exact),
+        // Shards split a search tree: the contact-set search of the pieces in 2D.
+        None if options.shard.is_some() && problem.dim() == 2 && !problem.is_floating() => {
+            MethodArg::Patterns(PatternMethod::Search)
+        }
         // A floating body's pieces are sign patterns: the ray methods are for clamped bodies.
         None if problem.dim() == 2 && !problem.is_floating() => MethodArg::Rays(Method::PrunedDd),
         None => MethodArg::Patterns(PatternMethod::Bnb),
@@ -183,6 +190,18 @@ pub fn plan_enumerate(
             return Err(Failure::Input(format!(
                 "--certify cannot prove the answer of --method {} complete ({why}); use \
                  --method bnb or pattern-faces for certified patterns, or drop --certify",
+                method.name()
+            )));
+        }
+    }
+    if let Some(shard) = options.shard {
+        if !matches!(
+            method,
+            MethodArg::Patterns(PatternMethod::Bnb | PatternMethod::Search)
+        ) {
+            return Err(Failure::Input(format!(
+                "--shard {shard} splits the search tree of --method bnb or pattern-search (the \
+                 default with --shard); --method {} has none to split",
                 method.name()
             )));
         }
@@ -219,6 +238,7 @@ pub fn plan_enumerate(
             method,
             limits,
             certify: options.certify,
+            shard: options.shard,
             ..PatternSettings::default()
         }),
     };

@@ -228,8 +228,8 @@ fn check_report(report: &Value, k: &DMatrix<f64>) {
     }
     for p in patterns {
         let keys: Vec<&str> = p.as_object().unwrap().keys().map(String::as_str).collect();
-        // (serde_json's maps are sorted by key)
-        assert_eq!(keys, ["margin", "pattern", "r", "status", "u"]);
+        // (in the document's order: serde_json keeps it, `preserve_order`)
+        assert_eq!(keys, ["pattern", "status", "u", "r", "margin"]);
         let (residual, r_n_sum) =
             residual_and_normal_sum(k, dim, &floats(&p["u"]), &floats(&p["r"]));
         assert!(residual <= 1e-8, "K u - r = {residual:e} for {p}");

@@ -3,43 +3,15 @@
 //! the same problem); the methods that do not apply, and bad or missing rigid modes, are
 //! one-line errors with exit code 2.
 
+mod common;
+
 use std::fs;
-use std::process::{Command, Output};
+
+use common::{assert_bad_input, assert_code, text, wedged};
 
 use serde_json::Value;
 use wedged::examples::floating_notch;
 use wedged::{critical, CriticalSettings};
-
-fn wedged(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wedged"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8(bytes.to_vec()).unwrap()
-}
-
-fn assert_code(out: &Output, code: i32) {
-    assert_eq!(
-        out.status.code(),
-        Some(code),
-        "stdout:\n{}\nstderr:\n{}",
-        text(&out.stdout),
-        text(&out.stderr)
-    );
-    assert!(!text(&out.stderr).contains("panicked"));
-}
-
-fn assert_bad_input(out: &Output, needles: &[&str]) {
-    assert_code(out, 2);
-    let err = text(&out.stderr);
-    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err}");
-    for needle in needles {
-        assert!(err.contains(needle), "{needle:?} not in {err}");
-    }
-}
 
 /// A cork: the generated plug in its V-notch (half angle atan(1/2)) with no clamp.
 fn cork(nx: usize, ny: usize) -> String {

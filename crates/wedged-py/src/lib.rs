@@ -37,6 +37,7 @@ use wedged_cli::jobs::{
 use wedged_cli::one_line;
 use wedged_cli::report::answer::Choice;
 use wedged_cli::report::json::{Header, Report};
+use wedged_cli::report::merge::Part;
 
 create_exception!(
     _wedged,
@@ -199,12 +200,18 @@ fn enumerate_run(
     certify: bool,
     zero_tol: Option<f64>,
     progress: bool,
+    shard: Option<&str>,
 ) -> PyResult<EnumerationRun> {
+    let shard = shard
+        .map(wedged::Shard::parse)
+        .transpose()
+        .map_err(|e| InputError::new_err(format!("shard: {e}")))?;
     let options = EnumerateOptions {
         method: method_of(method)?,
         zero_tol,
         time_limit,
         certify,
+        shard,
         ..EnumerateOptions::default()
     };
     let choice = jobs::plan_enumerate(&problem, source, &options).map_err(to_py)?;
@@ -371,10 +378,10 @@ fn critical_json(
     })
 }
 
-/// `enumerate(K, mu, dim, method, time_limit, certify, zero_tol, progress)`: the run of
-/// `wedged enumerate` on the condensed stiffness `K`.
+/// `enumerate(K, mu, dim, method, time_limit, certify, zero_tol, progress, rigid_modes,
+/// shard)`: the run of `wedged enumerate` on the condensed stiffness `K` (`shard` is `"I/N"`).
 #[pyfunction]
-#[pyo3(signature = (k, mu, dim=2, method=None, time_limit=None, certify=false, zero_tol=None, progress=false, rigid_modes=None))]
+#[pyo3(signature = (k, mu, dim=2, method=None, time_limit=None, certify=false, zero_tol=None, progress=false, rigid_modes=None, shard=None))]
 #[allow(clippy::too_many_arguments)]
 fn enumerate(
     py: Python<'_>,
@@ -387,11 +394,24 @@ fn enumerate(
     zero_tol: Option<f64>,
     progress: bool,
     rigid_modes: Option<PyReadonlyArray2<'_, f64>>,
+    shard: Option<&str>,
 ) -> PyResult<EnumerationRun> {
     let problem = matrix_problem(&k, rigid_modes.as_ref(), dim, mu)?;
     enumerate_run(
-        py, problem, None, "K", method, time_limit, certify, zero_tol, progress,
+        py, problem, None, "K", method, time_limit, certify, zero_tol, progress, shard,
     )
+}
+
+/// `merge(parts)`: the JSON texts of a sharded run's parts merged as `wedged merge` merges
+/// them; returns `(json, complete, summary)`.
+#[pyfunction]
+fn merge(parts: Vec<(String, String)>) -> PyResult<(String, bool, String)> {
+    let parts: Vec<Part> = parts
+        .into_iter()
+        .map(|(name, text)| Part { name, text })
+        .collect();
+    let merged = wedged_cli::report::merge::merge(&parts).map_err(InputError::new_err)?;
+    Ok((merged.json, merged.complete, merged.summary))
 }
 
 /// `critical(K, dim, method, time_limit, certify, tol, progress)`: the JSON of
@@ -473,8 +493,8 @@ impl LoadedProblem {
         self.model.is_some()
     }
 
-    /// The run of `wedged enumerate FILE [--mu MU]`.
-    #[pyo3(signature = (mu=None, method=None, time_limit=None, certify=false, zero_tol=None, progress=false))]
+    /// The run of `wedged enumerate FILE [--mu MU] [--shard I/N]`.
+    #[pyo3(signature = (mu=None, method=None, time_limit=None, certify=false, zero_tol=None, progress=false, shard=None))]
     #[allow(clippy::too_many_arguments)]
     fn enumerate(
         slf: &Bound<'_, Self>,
@@ -484,6 +504,7 @@ impl LoadedProblem {
         certify: bool,
         zero_tol: Option<f64>,
         progress: bool,
+        shard: Option<&str>,
     ) -> PyResult<EnumerationRun> {
         let this = slf.get();
         let problem = match (mu, this.mu_given) {
@@ -509,6 +530,7 @@ impl LoadedProblem {
             certify,
             zero_tol,
             progress,
+            shard,
         )
     }
 
@@ -663,6 +685,7 @@ fn _wedged(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(enumerate, m)?)?;
     m.add_function(wrap_pyfunction!(critical, m)?)?;
     m.add_function(wrap_pyfunction!(load, m)?)?;
+    m.add_function(wrap_pyfunction!(merge, m)?)?;
     m.add_class::<LoadedProblem>()?;
     m.add_class::<EnumerationRun>()?;
     Ok(())

@@ -386,6 +386,27 @@ impl Problem {
         self.mu
     }
 
+    /// A 64-bit fingerprint of the problem (FNV-1a over `dim`, `mu`, every entry of `K` and of
+    /// the rigid modes, as bits): the shards of one run carry it, so that a merge can tell parts
+    /// of different problems apart. Equal problems built alike have equal fingerprints; it is
+    /// not a cryptographic hash.
+    pub fn fingerprint(&self) -> u64 {
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        let mut eat = |word: u64| {
+            for byte in word.to_le_bytes() {
+                h ^= u64::from(byte);
+                h = h.wrapping_mul(0x0000_0100_0000_01b3);
+            }
+        };
+        eat(self.dim as u64);
+        eat(self.k.nrows() as u64);
+        eat(self.mu.to_bits());
+        self.k.iter().for_each(|x| eat(x.to_bits()));
+        eat(self.rigid.ncols() as u64);
+        self.rigid.iter().for_each(|x| eat(x.to_bits()));
+        h
+    }
+
     /// The (symmetrised) stiffness `K`, `dim*m` square.
     pub fn stiffness(&self) -> &DMatrix<f64> {
         &self.k

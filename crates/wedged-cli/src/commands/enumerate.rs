@@ -35,8 +35,24 @@ pub(crate) fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
         max_memory: args.max_memory,
         certify: args.certify,
         exact: args.exact,
+        shard: args.shard,
     };
     let choice = plan_enumerate(&problem, &source, &options)?;
+    if let Some(shard) = args.shard {
+        if args.json.json.is_none() {
+            return Err(Failure::Input(format!(
+                "--shard {shard} writes a part for `wedged merge`: give --json PART.json"
+            )));
+        }
+        for (given, option) in [(args.vtk.is_some(), "--vtk"), (args.svg.is_some(), "--svg")] {
+            if given {
+                return Err(Failure::Input(format!(
+                    "{option} draws the whole answer: draw it from a whole run, not from \
+                     --shard {shard}"
+                )));
+            }
+        }
+    }
     if loaded.model.is_none() {
         for (given, option) in [(args.vtk.is_some(), "--vtk"), (args.svg.is_some(), "--svg")] {
             if given {

@@ -1,17 +1,19 @@
 //! One file per subcommand: `enumerate` (and its report), `critical` and `sweep`, `study`,
-//! `condense`, `demo`. This file holds what they share: [`Failure`] (which decides the exit code), the
+//! `condense`, `demo`, `merge`. This file holds what they share: [`Failure`] (which decides the exit code), the
 //! dispatch [`run`], the cancel flag set by Ctrl-C, the time limit, and stdout.
 
 mod condense;
 mod critical;
 mod demo;
 mod enumerate;
+mod merge;
 mod study;
 
 use condense::*;
 use critical::*;
 use demo::*;
 use enumerate::*;
+use merge::*;
 use study::*;
 
 use std::io::{self, Write};
@@ -29,6 +31,7 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
         Command::Sweep(args) => run_sweep(args),
         Command::Study(args) => run_study(args),
         Command::Demo(args) => run_demo(args),
+        Command::Merge(args) => run_merge(args),
     }
 }
 

@@ -39,6 +39,29 @@ impl Choice {
             _ => None,
         }
     }
+
+    /// The fingerprint of a run of this choice on `problem`, as 16 hex digits: the problem's
+    /// ([`wedged::Problem::fingerprint`]) with every setting that can change the answer (the
+    /// method, the pyramid's faces, the zero tolerance, `--certify`). The parts of one sharded
+    /// run carry it, and `wedged merge` refuses parts whose fingerprints differ.
+    pub fn fingerprint(&self, problem: &wedged::Problem) -> String {
+        let (zero_tol, certify) = match self {
+            Choice::Rays(s) => (s.zero_tol, false),
+            Choice::Patterns(s) => (s.zero_tol, s.certify),
+        };
+        let mut h = problem.fingerprint();
+        let text = format!(
+            "{} {:?} {} {certify}",
+            self.name(),
+            self.pyramid_faces(),
+            zero_tol.to_bits()
+        );
+        for byte in text.bytes() {
+            h ^= u64::from(byte);
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+        format!("{h:016x}")
+    }
 }
 
 /// The result of a run.
@@ -68,6 +91,14 @@ impl Answer {
         match self {
             Answer::Rays(e) => e.outcome,
             Answer::Patterns(p) => p.outcome,
+        }
+    }
+
+    /// How a shard's search was split (a run of one shard).
+    pub fn shard(&self) -> Option<wedged::ShardReport> {
+        match self {
+            Answer::Rays(_) => None,
+            Answer::Patterns(p) => p.shard,
         }
     }
 

@@ -13,7 +13,9 @@
 //!   "info":  { every field of wedged::Info }                        (ray methods)
 //!          | { "method", "pyramid_faces", every field of wedged::PatternInfo }  (pattern methods),
 //!   "model": { .. },                                                (meshed bodies only)
-//!   "version": "0.1.0" }
+//!   "version": "0.1.0",
+//!   "shard": { "index", "count", "fingerprint", "split_depth", "units", "own_units",
+//!              "split_nodes" } }                                   (--shard parts only)
 //! ```
 //!
 //! Every key is always there (`model` for a meshed body only), whatever the method:
@@ -91,6 +93,23 @@ pub struct Report<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub model: Option<ModelJson>,
     pub version: &'static str,
+    /// A part of a sharded run (`--shard I/N`), for `wedged merge`; absent from a whole run's
+    /// JSON (and from the merge's).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shard: Option<ShardJson>,
+}
+
+/// How a shard's search was split ([`wedged::ShardReport`]), and the run's fingerprint
+/// ([`Choice::fingerprint`]), which every part of one run shares.
+#[derive(Debug, Serialize)]
+pub struct ShardJson {
+    pub index: usize,
+    pub count: usize,
+    pub fingerprint: String,
+    pub split_depth: usize,
+    pub units: usize,
+    pub own_units: usize,
+    pub split_nodes: u64,
 }
 
 /// The finite-element model of a `[mesh]` problem.
@@ -500,6 +519,15 @@ impl<'a> Report<'a> {
             info: header.info,
             model: model.map(ModelJson::new),
             version: env!("CARGO_PKG_VERSION"),
+            shard: answer.shard().map(|s| ShardJson {
+                index: s.index,
+                count: s.count,
+                fingerprint: choice.fingerprint(problem),
+                split_depth: s.split_depth,
+                units: s.units,
+                own_units: s.own_units,
+                split_nodes: s.split_nodes,
+            }),
         }
     }
 }

@@ -6,6 +6,7 @@ pub mod answer;
 pub mod critical;
 pub mod files;
 pub mod json;
+pub mod merge;
 pub mod summary;
 
 /// A number with at most 4 significant digits, for labels.

@@ -136,6 +136,15 @@ pub fn render(
         problem.mu(),
         choice.name()
     );
+    if let Some(s) = answer.shard() {
+        let _ = writeln!(
+            out,
+            "shard {}/{}: the search split at depth {} into {} units, {} of them here \
+             (finding the split took {} search nodes, as in every shard); these are this \
+             part's pieces: `wedged merge` the parts for the answer",
+            s.index, s.count, s.split_depth, s.units, s.own_units, s.split_nodes
+        );
+    }
     match answer {
         Answer::Rays(result) => render_rays(&mut out, problem, result),
         Answer::Patterns(result) => render_patterns(&mut out, problem, choice, result),

@@ -28,7 +28,8 @@ from __future__ import annotations
 import functools
 import json as _json
 
-# The module defines `enumerate`; the built-in is not used in it.
+# The module defines `enumerate`; the built-in is kept under another name.
+from builtins import enumerate as builtins_enumerate
 from dataclasses import dataclass, field
 from typing import Any, List, NamedTuple, Optional
 
@@ -50,6 +51,7 @@ __all__ = [
     "critical",
     "enumerate",
     "load",
+    "merge",
 ]
 
 
@@ -306,6 +308,7 @@ def enumerate(
     zero_tol: Optional[float] = None,
     progress: bool = False,
     rigid_modes: Any = None,
+    shard: Any = None,
 ) -> Enumeration:
     """Every wedged configuration of the condensed stiffness ``K`` at friction ``mu``.
 
@@ -316,7 +319,10 @@ def enumerate(
     raises :class:`InternalError`); ``progress`` draws the command's progress line on
     stderr once the run has lasted a second. ``rigid_modes``: for a floating body, its free
     rigid motions at the contact nodes (``dim m x k``, same frames, ``K R = 0``); the default
-    method is then ``bnb`` (the ray methods are for clamped bodies).
+    method is then ``bnb`` (the ray methods are for clamped bodies). ``shard``: ``(i, n)`` or
+    ``"i/n"``, run shard ``i`` of ``n`` of the search only (``--shard``; method ``bnb`` or
+    ``pattern-search``, the default then in 2D): the pieces of its part of the tree, to be
+    combined by :func:`merge` (:mod:`wedged.distributed` does both on a Dask cluster).
     """
     run = _wedged.enumerate(
         _matrix(K),
@@ -328,8 +334,77 @@ def enumerate(
         zero_tol=_number("zero_tol", zero_tol),
         progress=bool(progress),
         rigid_modes=_modes(rigid_modes),
+        shard=_shard(shard),
     )
     return Enumeration._from_run(run)
+
+
+def _shard(shard: Any) -> Optional[str]:
+    """A shard as the command writes it, ``"i/n"``, from ``(i, n)`` or ``"i/n"``."""
+    if shard is None or isinstance(shard, str):
+        return shard
+    try:
+        i, n = shard
+        return f"{int(i)}/{int(n)}"
+    except (TypeError, ValueError):
+        raise InputError(f"shard must be (i, n) or 'i/n', got {shard!r}") from None
+
+
+class _JsonRun:
+    """A run known from its JSON document only (a merge of shards): what
+    :class:`Enumeration` reads of a run, made from the document."""
+
+    def __init__(self, text: str):
+        self._text = text
+        self._doc = _json.loads(text)
+        self.library_seconds = float(self._doc["info"].get("seconds", 0.0))
+
+    def to_json(self) -> str:
+        return self._text
+
+    def header(self) -> dict:
+        d = self._doc
+        keys = ("dim", "mu", "nodes", "method", "outcome", "complete", "stopped", "certified")
+        head = {k: d[k] for k in keys}
+        head["info"] = _json.dumps(d["info"])
+        return head
+
+    def parts(self) -> dict:
+        d = self._doc
+        n = d["dim"] * d["nodes"]
+
+        def rows(items: list, key: str) -> np.ndarray:
+            return np.array([x[key] for x in items], dtype=np.float64).reshape(len(items), n)
+
+        return {
+            "ray_u": rows(d["rays"], "u"),
+            "ray_r": rows(d["rays"], "r"),
+            "ray_status": [x["status"] for x in d["rays"]],
+            "cone_rays": [x["rays"] for x in d["cones"]],
+            "cone_status": [x["status"] for x in d["cones"]],
+            "pattern_pattern": [x["pattern"] for x in d["patterns"]],
+            "pattern_status": [x["status"] for x in d["patterns"]],
+            "pattern_u": rows(d["patterns"], "u"),
+            "pattern_r": rows(d["patterns"], "r"),
+            "pattern_margin": [x["margin"] for x in d["patterns"]],
+        }
+
+
+def merge(parts: Any, problem: Any = None) -> Enumeration:
+    """The one-run answer from the parts of a sharded run (``enumerate(..., shard=(i, n))``
+    for ``i = 1..n``; :class:`Enumeration` objects or their ``to_json()`` texts), as
+    ``wedged merge`` gives it: the pieces that no other piece contains, sorted as one run sorts
+    them. A missing shard gives an incomplete result (``complete`` False, ``stopped`` names
+    it); parts of different runs, or a shard given twice, raise :class:`InputError`.
+    ``problem``: the loaded meshed body, for :meth:`Enumeration.to_meshio`."""
+    texts = []
+    for k, part in builtins_enumerate(parts):
+        text = part.to_json() if hasattr(part, "to_json") else part
+        if not isinstance(text, str):
+            raise InputError(f"part {k}: not an Enumeration or its JSON text")
+        texts.append((f"part {k}", text))
+    merged, _complete, _summary = _wedged.merge(texts)
+    return Enumeration._from_run(_JsonRun(merged), problem)
 
 
 def critical(
@@ -394,6 +469,11 @@ class Problem:
         """Whether the file describes a meshed body."""
         return self._loaded.is_mesh
 
+    @property
+    def source(self) -> str:
+        """The file it was loaded from."""
+        return self._loaded.source
+
     def __repr__(self) -> str:
         kind = "meshed body" if self.is_mesh else "condensed stiffness"
         return f"<wedged.Problem {self._loaded.source!r}: {kind}, dim {self.dim}, " \
@@ -401,6 +481,8 @@ class Problem:
 
     def enumerate(self, *, mu: Optional[float] = None, **kw: Any) -> Enumeration:
         """As :func:`enumerate`, at the file's ``mu`` unless ``mu`` is given."""
+        if "shard" in kw:
+            kw["shard"] = _shard(kw["shard"])
         run = self._loaded.enumerate(mu=_number("mu", mu), **kw)
         return Enumeration._from_run(run, self if self.is_mesh else None)
 

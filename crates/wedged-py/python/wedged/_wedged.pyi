@@ -5,7 +5,7 @@ the command's JSON document. `wedged/__init__.py` builds the result objects from
 functions of `wedged`, not these.
 """
 
-from typing import Any, Dict, Optional, Tuple
+from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 import numpy.typing as npt
@@ -36,6 +36,8 @@ def enumerate(
     certify: bool = False,
     zero_tol: Optional[float] = None,
     progress: bool = False,
+    rigid_modes: Optional[npt.NDArray[np.float64]] = None,
+    shard: Optional[str] = None,
 ) -> EnumerationRun: ...
 def critical(
     k: npt.NDArray[np.float64],
@@ -45,8 +47,10 @@ def critical(
     certify: bool = False,
     tol: Optional[float] = None,
     progress: bool = False,
+    rigid_modes: Optional[npt.NDArray[np.float64]] = None,
 ) -> str: ...
 def load(path: str) -> LoadedProblem: ...
+def merge(parts: List[Tuple[str, str]]) -> Tuple[str, bool, str]: ...
 
 class LoadedProblem:
     @property
@@ -67,6 +71,7 @@ class LoadedProblem:
         certify: bool = False,
         zero_tol: Optional[float] = None,
         progress: bool = False,
+        shard: Optional[str] = None,
     ) -> EnumerationRun: ...
     def critical(
         self,

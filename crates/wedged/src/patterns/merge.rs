@@ -22,9 +22,9 @@ pub fn keep_maximal(patterns: &[&[ContactPattern]]) -> Vec<bool> {
         .collect()
 }
 
-/// Checks that `shards` (each part's `(index, count)`) are shards `1..N` of one split, each
-/// once; the error names what is missing or repeated.
-pub fn check_shards(shards: &[(usize, usize)]) -> Result<(), String> {
+/// Checks that `shards` (each part's `(index, count)`) are shards of one split into `N`, none
+/// twice (the error names the repeated or foreign ones), and returns the missing indices.
+pub fn check_shards(shards: &[(usize, usize)]) -> Result<Vec<usize>, String> {
     let Some(&(_, count)) = shards.first() else {
         return Err("no parts to merge".to_string());
     };
@@ -53,14 +53,14 @@ pub fn check_shards(shards: &[(usize, usize)]) -> Result<(), String> {
             repeated.join(", ")
         ));
     }
-    let missing = list(&|k| k == 0);
-    if !missing.is_empty() {
-        return Err(format!(
-            "shard {} of {count} missing: the merge of the others is not the whole answer",
-            missing.join(", ")
-        ));
-    }
-    Ok(())
+    Ok((1..=count).filter(|&i| seen[i - 1] == 0).collect())
+}
+
+/// `"shard 3 of 16 missing"`, `"shards 3, 7 of 16 missing"`.
+pub fn missing_text(missing: &[usize], count: usize) -> String {
+    let list: Vec<String> = missing.iter().map(|i| i.to_string()).collect();
+    let s = if missing.len() == 1 { "" } else { "s" };
+    format!("shard{s} {} of {count} missing", list.join(", "))
 }
 
 /// The one-run answer of the shards `parts` of one search (each a run with
@@ -76,7 +76,13 @@ pub fn merge_shards(parts: Vec<Patterns>) -> Result<Patterns, String> {
                 .ok_or_else(|| "a part is a whole run, not a shard".to_string())
         })
         .collect::<Result<Vec<_>, _>>()?;
-    check_shards(&shards)?;
+    let missing = check_shards(&shards)?;
+    if !missing.is_empty() {
+        return Err(format!(
+            "{}: the merge of the others is not the whole answer",
+            missing_text(&missing, shards[0].1)
+        ));
+    }
     let mut stopped = None;
     let mut info = PatternInfo::default();
     let mut certificate: Option<PatternCertificate> = None;

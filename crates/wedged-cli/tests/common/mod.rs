@@ -1,0 +1,40 @@
+//! What the command's integration tests share: running the binary and checking its exit code
+//! and its one-line errors.
+
+#![allow(dead_code)]
+
+use std::process::{Command, Output};
+
+/// Runs `wedged` with `args`.
+pub fn wedged(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wedged"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+pub fn text(bytes: &[u8]) -> String {
+    String::from_utf8(bytes.to_vec()).unwrap()
+}
+
+/// The exit code is `code`, and nothing panicked.
+pub fn assert_code(out: &Output, code: i32) {
+    assert_eq!(
+        out.status.code(),
+        Some(code),
+        "stdout:\n{}\nstderr:\n{}",
+        text(&out.stdout),
+        text(&out.stderr)
+    );
+    assert!(!text(&out.stderr).contains("panicked"));
+}
+
+/// Exit code 2 with a one-line error that contains every needle.
+pub fn assert_bad_input(out: &Output, needles: &[&str]) {
+    assert_code(out, 2);
+    let err = text(&out.stderr);
+    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err}");
+    for needle in needles {
+        assert!(err.contains(needle), "{needle:?} not in {err}");
+    }
+}

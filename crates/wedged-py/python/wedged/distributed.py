@@ -1,0 +1,106 @@
+"""A sharded enumeration on a Dask cluster (``dask.distributed``): the shards of the search as
+tasks, merged on the client into the one-run answer.
+
+::
+
+    from dask.distributed import Client
+    import wedged, wedged.distributed
+
+    client = Client("scheduler:8786")            # or LocalCluster(), or dask-jobqueue's SLURMCluster
+    result = wedged.distributed.enumerate("plug.toml", client=client, mu=2.0)
+    result.patterns                               # as wedged.load("plug.toml").enumerate(mu=2.0)
+
+Each task runs ``enumerate(..., shard=(i, n))`` (``wedged enumerate --shard i/n``) on a worker
+and hands back its part's JSON; :func:`wedged.merge` combines them. Every worker computes the
+same split of the search without talking to the others (see the README, "Beyond one
+machine"), so Dask only schedules and moves a few kilobytes per task. More shards than
+workers (the default: 8 per worker) let Dask balance the load: a worker that finishes early
+takes the next shard. A task that fails raises its error here; nothing incomplete is returned
+as complete.
+
+The problem goes to the workers as a problem file's path (which the workers must be able to
+read, with the files it names: a shared file system, as on a cluster) or as the matrix ``K``
+itself. Each worker's search uses its own threads (``RAYON_NUM_THREADS``, default all cores);
+with one Dask worker per core, set ``RAYON_NUM_THREADS=1`` in the workers' environment.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any, Optional
+
+import numpy as np
+
+from . import Enumeration, InputError, _matrix, _modes, _number
+from . import enumerate as _enumerate
+from . import load as _load
+from . import merge as _merge
+
+__all__ = ["enumerate"]
+
+#: Shards per worker when ``shards`` is not given.
+SHARDS_PER_WORKER = 8
+
+
+def _part(spec: tuple, shard: str, options: dict) -> str:
+    """One shard's JSON text (runs on a worker)."""
+    kind, what, mu = spec
+    if kind == "file":
+        return _load(what).enumerate(mu=mu, shard=shard, **options).to_json()
+    k, dim, modes = what
+    return _enumerate(k, mu, dim=dim, rigid_modes=modes, shard=shard, **options).to_json()
+
+
+def enumerate(
+    problem: Any,
+    *,
+    client: Any,
+    mu: Optional[float] = None,
+    shards: Optional[int] = None,
+    dim: int = 2,
+    rigid_modes: Any = None,
+    method: Optional[str] = None,
+    time_limit: Optional[float] = None,
+    certify: bool = False,
+) -> Enumeration:
+    """Every wedged configuration of ``problem`` at ``mu``, in ``shards`` Dask tasks on
+    ``client`` (a ``dask.distributed.Client``), merged: the same pieces, witnesses and
+    statuses as one :func:`wedged.enumerate` run; ``info`` holds the shards' summed counters.
+
+    ``problem``: a problem file's path, a :class:`wedged.Problem` loaded from one, or the
+    condensed stiffness ``K`` (with ``dim`` and, for a floating body, ``rigid_modes``).
+    ``mu``: required for ``K``; for a file, its ``mu`` unless given. ``shards``: default
+    :data:`SHARDS_PER_WORKER` per worker of the cluster. ``method``: ``pattern-search``
+    (default in 2D) or ``bnb`` (default in 3D and for floating bodies); ``time_limit`` is
+    per shard.
+    """
+    options = {
+        "method": method,
+        "time_limit": _number("time_limit", time_limit),
+        "certify": bool(certify),
+    }
+    mu = _number("mu", mu)
+    loaded = None
+    if isinstance(problem, (str, os.PathLike)):
+        spec = ("file", os.fspath(problem), mu)
+        loaded = _load(os.fspath(problem))
+    elif hasattr(problem, "source") and hasattr(problem, "is_mesh"):
+        spec = ("file", problem.source, mu)
+        loaded = problem
+    else:
+        if mu is None:
+            raise InputError("mu is required for a matrix problem")
+        spec = ("matrix", (_matrix(problem), int(dim), _modes(rigid_modes)), mu)
+    if loaded is not None and mu is None and loaded.mu is None:
+        raise InputError(f"{loaded.source}: the file gives no mu; pass mu=...")
+    if shards is None:
+        workers = len(client.scheduler_info().get("workers", {}))
+        shards = SHARDS_PER_WORKER * max(workers, 1)
+    if not isinstance(shards, (int, np.integer)) or shards < 1:
+        raise InputError(f"shards must be a whole number of at least 1, got {shards!r}")
+    futures = [
+        client.submit(_part, spec, f"{i}/{shards}", options, pure=False)
+        for i in range(1, shards + 1)
+    ]
+    parts = client.gather(futures)
+    return _merge(parts, loaded if loaded is not None and loaded.is_mesh else None)
