@@ -100,8 +100,9 @@ pub(crate) enum Command {
     /// and its critical friction coefficient.
     #[command(after_help = EXIT_CODES)]
     Demo(DemoArgs),
-    /// Merge the parts of a sharded run (`enumerate --shard I/N --json PART`) into the JSON one
-    /// run writes; a missing shard is named and the merge is then marked incomplete (exit 3).
+    /// Merge the parts of a sharded run (`enumerate` or `critical` with `--shard I/N --json
+    /// PART`) into the JSON one run writes; a missing shard is named and the merge is then
+    /// marked incomplete (exit 3).
     #[command(after_help = EXIT_CODES)]
     Merge(MergeArgs),
 }
@@ -123,6 +124,10 @@ pub(crate) struct CriticalArgs {
     pub(crate) common: CriticalCommon,
     #[command(flatten)]
     pub(crate) json: JsonArg,
+    /// Run shard I of N of the bnb search only, and write it with --json as a part for
+    /// `wedged merge`, which gives the one-run bracket (see `enumerate --shard`).
+    #[arg(long, value_name = "I/N", value_parser = wedged::Shard::parse)]
+    pub(crate) shard: Option<wedged::Shard>,
 }
 
 #[derive(Debug, Args)]
@@ -277,8 +282,8 @@ pub(crate) struct EnumerateArgs {
 
 #[derive(Debug, Args)]
 pub(crate) struct MergeArgs {
-    /// The parts: the JSON files of `wedged enumerate FILE --shard I/N --json PART`, one per
-    /// shard.
+    /// The parts: the JSON files of `wedged enumerate FILE --shard I/N --json PART` (or of
+    /// `wedged critical`), one per shard.
     #[arg(required = true, value_name = "PART.json")]
     pub(crate) parts: Vec<PathBuf>,
     #[command(flatten)]

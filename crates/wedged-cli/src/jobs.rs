@@ -453,6 +453,8 @@ pub struct CriticalOptions {
     pub time_limit: Option<f64>,
     /// `--certify`.
     pub certify: bool,
+    /// `--shard I/N`: one shard of the bnb search.
+    pub shard: Option<wedged::Shard>,
 }
 
 /// The settings that `options` ask for, or why they cannot run.
@@ -465,12 +467,20 @@ pub fn plan_critical(options: &CriticalOptions) -> Result<CriticalSettings, Fail
                 .to_string(),
         ));
     }
+    if let (Some(shard), true) = (options.shard, method != CriticalMethod::Bnb) {
+        return Err(Failure::Input(format!(
+            "--shard {shard} splits the search tree of --method bnb; --method {} has none to \
+             split",
+            method.name()
+        )));
+    }
     Ok(CriticalSettings {
         method,
         tol: options.tol.unwrap_or(wedged::critical::DEFAULT_TOL),
         limits: time_limits(options.time_limit)?,
         certify: options.certify,
         fault: injected_fault()?,
+        shard: options.shard,
     })
 }
 

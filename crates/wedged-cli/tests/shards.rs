@@ -185,3 +185,107 @@ fn shards_need_a_search_tree_and_a_part_file() {
     ]);
     assert_bad_input(&out, &["--svg draws the whole answer"]);
 }
+
+/// The Slurm example's scripts (examples/slurm), run as the shell loop `local.sh` with the
+/// variables Slurm sets, write parts/ and all.json, the JSON of one run.
+#[test]
+fn the_slurm_scripts_give_one_run_answer() {
+    let dir = tempfile::tempdir().unwrap();
+    let problem = example("plug2d.toml");
+    let script = example("slurm/local.sh");
+    let out = std::process::Command::new("bash")
+        .args([script.as_str(), problem.as_str(), "5"])
+        .current_dir(dir.path())
+        .env("WEDGED", env!("CARGO_BIN_EXE_wedged"))
+        .output()
+        .unwrap();
+    assert_code(&out, 0);
+    assert!(text(&out.stdout).contains("merged 5 of 5 shards"));
+    assert!(dir.path().join("parts/part-5.json").exists());
+    let whole = dir.path().join("whole.json");
+    let out = wedged(&[
+        "enumerate",
+        &problem,
+        "--method",
+        "pattern-search",
+        "--json",
+        whole.to_str().unwrap(),
+    ]);
+    assert_code(&out, 0);
+    assert_eq!(
+        answer(json(&dir.path().join("all.json"))),
+        answer(json(&whole))
+    );
+    // Without the array's variables the shard script says how to run it.
+    let out = std::process::Command::new("bash")
+        .args([example("slurm/shards.sbatch").as_str(), problem.as_str()])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_ne!(out.status.code(), Some(0));
+    assert!(text(&out.stderr).contains("sbatch --array=1-N"));
+}
+
+/// `critical --shard I/N` and `merge`: the bracket of one run (each end within the tolerance),
+/// the same keys; a part of `critical` does not merge with one of `enumerate`.
+#[test]
+fn critical_shards_merge_to_the_one_run_bracket() {
+    let dir = tempfile::tempdir().unwrap();
+    let problem = example("plug2d.toml");
+    let whole_path = dir.path().join("whole.json");
+    assert_code(
+        &wedged(&["critical", &problem, "--json", whole_path.to_str().unwrap()]),
+        0,
+    );
+    let whole = json(&whole_path);
+    let count = 3;
+    let parts: Vec<PathBuf> = (1..=count)
+        .map(|i| {
+            let part = dir.path().join(format!("c-{i}.json"));
+            let shard = format!("{i}/{count}");
+            let out = wedged(&[
+                "critical",
+                &problem,
+                "--shard",
+                &shard,
+                "--json",
+                part.to_str().unwrap(),
+            ]);
+            assert_code(&out, 0);
+            assert!(text(&out.stdout).contains(&format!("shard {shard}: the search split")));
+            part
+        })
+        .collect();
+    let merged_path = dir.path().join("merged.json");
+    let out = merge(&parts, &merged_path);
+    assert_code(&out, 0);
+    assert!(text(&out.stdout).contains("wedged, mu* in ["));
+    let merged = json(&merged_path);
+    assert_eq!(merged["status"], "wedged");
+    let (mu, one) = (
+        merged["mu_critical"].as_f64().unwrap(),
+        whole["mu_critical"].as_f64().unwrap(),
+    );
+    assert!((mu - one).abs() <= 2e-9 * one, "{mu} against {one}");
+    assert!(merged["lower"].as_f64().unwrap() <= one);
+    assert!(whole["lower"].as_f64().unwrap() <= mu);
+    let keys = |v: &Value| v.as_object().unwrap().keys().cloned().collect::<Vec<_>>();
+    assert_eq!(keys(&merged), keys(&whole));
+    assert_eq!(keys(&merged["info"]), keys(&whole["info"]));
+    // A part of enumerate among them.
+    let other = dir.path().join("other");
+    std::fs::create_dir(&other).unwrap();
+    let enumerate_parts = shards(&other, &problem, 3, &[]);
+    let out = merge(
+        &[parts[0].clone(), enumerate_parts[1].clone()],
+        &merged_path,
+    );
+    assert_bad_input(&out, &["is a part of `wedged enumerate`"]);
+    // Refusals.
+    let out = wedged(&["critical", &problem, "--shard", "1/2"]);
+    assert_bad_input(&out, &["--shard 1/2", "--json"]);
+    let out = wedged(&[
+        "critical", &problem, "--shard", "1/2", "--method", "faces", "--json", "-",
+    ]);
+    assert_bad_input(&out, &["faces has none to split"]);
+}

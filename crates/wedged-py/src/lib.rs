@@ -358,12 +358,18 @@ fn critical_json(
     certify: bool,
     tol: Option<f64>,
     progress: bool,
+    shard: Option<&str>,
 ) -> PyResult<String> {
+    let shard = shard
+        .map(wedged::Shard::parse)
+        .transpose()
+        .map_err(|e| InputError::new_err(format!("shard: {e}")))?;
     let settings = jobs::plan_critical(&CriticalOptions {
         method: critical_method_of(method)?,
         tol,
         time_limit,
         certify,
+        shard,
     })
     .map_err(to_py)?;
     released(py, |cancel| {
@@ -414,10 +420,10 @@ fn merge(parts: Vec<(String, String)>) -> PyResult<(String, bool, String)> {
     Ok((merged.json, merged.complete, merged.summary))
 }
 
-/// `critical(K, dim, method, time_limit, certify, tol, progress)`: the JSON of
-/// `wedged critical` on the condensed stiffness `K`.
+/// `critical(K, dim, method, time_limit, certify, tol, progress, rigid_modes, shard)`: the
+/// JSON of `wedged critical` on the condensed stiffness `K` (`shard` is `"I/N"`).
 #[pyfunction]
-#[pyo3(signature = (k, dim=2, method=None, time_limit=None, certify=false, tol=None, progress=false, rigid_modes=None))]
+#[pyo3(signature = (k, dim=2, method=None, time_limit=None, certify=false, tol=None, progress=false, rigid_modes=None, shard=None))]
 #[allow(clippy::too_many_arguments)]
 fn critical(
     py: Python<'_>,
@@ -429,11 +435,12 @@ fn critical(
     tol: Option<f64>,
     progress: bool,
     rigid_modes: Option<PyReadonlyArray2<'_, f64>>,
+    shard: Option<&str>,
 ) -> PyResult<String> {
     // mu plays no part in mu*; 1 passes the check of mu.
     let problem = matrix_problem(&k, rigid_modes.as_ref(), dim, 1.0)?;
     critical_json(
-        py, &problem, None, "K", method, time_limit, certify, tol, progress,
+        py, &problem, None, "K", method, time_limit, certify, tol, progress, shard,
     )
 }
 
@@ -534,8 +541,9 @@ impl LoadedProblem {
         )
     }
 
-    /// The JSON of `wedged critical FILE`.
-    #[pyo3(signature = (method=None, time_limit=None, certify=false, tol=None, progress=false))]
+    /// The JSON of `wedged critical FILE [--shard I/N]`.
+    #[pyo3(signature = (method=None, time_limit=None, certify=false, tol=None, progress=false, shard=None))]
+    #[allow(clippy::too_many_arguments)]
     fn critical(
         &self,
         py: Python<'_>,
@@ -544,6 +552,7 @@ impl LoadedProblem {
         certify: bool,
         tol: Option<f64>,
         progress: bool,
+        shard: Option<&str>,
     ) -> PyResult<String> {
         critical_json(
             py,
@@ -555,6 +564,7 @@ impl LoadedProblem {
             certify,
             tol,
             progress,
+            shard,
         )
     }
 

@@ -86,3 +86,28 @@ def test_dask_enumerates_a_matrix_in_3d(client):
     same_pieces(sharded, whole)
     with pytest.raises(wedged.InputError, match="mu is required"):
         wedged.distributed.enumerate(k, client=client, dim=3)
+
+
+def close(a: float, b: float) -> bool:
+    return abs(a - b) <= 2e-9 * abs(b)
+
+
+def test_critical_shards_merge_to_one_bracket():
+    k = random_k(2, 6)
+    whole = wedged.critical(k)
+    parts = [wedged.critical(k, shard=(i, 3)) for i in (1, 2, 3)]
+    merged = wedged.merge(parts)
+    assert isinstance(merged, wedged.Critical)
+    assert merged.status == whole.status == "wedged"
+    assert close(merged.mu, whole.mu)
+    assert merged.lower <= whole.upper and whole.lower <= merged.upper
+    lost = wedged.merge(parts[1:])
+    assert not lost.complete and "shard 1 of 3 missing" in lost.stopped
+
+
+def test_dask_critical_of_a_meshed_plug(client):
+    path = EXAMPLES / "plug2d.toml"
+    whole = wedged.load(path).critical()
+    sharded = wedged.distributed.critical(str(path), client=client, shards=4)
+    assert sharded.status == "wedged" and close(sharded.mu, whole.mu)
+    assert sharded.to_meshio().points.shape[0] > 0

@@ -10,9 +10,11 @@
 //! top's programs), numbers the open nodes at depth `D` (the **units**) in depth-first order,
 //! and deals them out like cards in a snake: units `0..N` to shards `1..N`, units `N..2N` to
 //! shards `N..1`, and so on. Neighbouring units are siblings and cousins, whose subtrees tend
-//! to be alike in size, so the snake spreads the big ones. Then it searches its own units'
+//! to be alike in size, so the snake spreads the big ones. Then it decides the top's ends
+//! (leaves and prunes above `D`) again, now recording them, and searches its own units'
 //! subtrees. The nodes above `D` are visited by every shard: a leaf among them is found by
-//! each, and the merge keeps one.
+//! each, and the merge keeps one. The top is decided before any unit is searched, so what the
+//! units find (a better incumbent of `critical`) cannot change it from one shard to another.
 //!
 //! The union of the shards' subtrees and the top is the one-run tree node for node, so the
 //! union of their answers is the one-run answer: a piece found in one shard may be contained
@@ -21,7 +23,11 @@
 //! Without a shard (or with `1/1`) the search is the plain depth-first one, the two children of
 //! a node in parallel (`rayon::join`).
 
+use std::collections::HashMap;
+
+use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 
 /// Units of the split per shard: more units balance the shards better (the largest unit's
 /// subtree bounds the largest shard) at the cost of a deeper top, which every shard solves.
@@ -121,14 +127,33 @@ pub struct ShardReport {
 
 /// A binary search tree whose nodes are decided one at a time.
 pub(crate) trait Tree: Sync {
-    type Node: Send;
+    /// A node (cloned when a split walks the top of the tree more than once).
+    type Node: Send + Sync + Clone;
+
+    /// Nodes above this depth are decided once per run even when the split walks them again
+    /// (their children kept): the ones whose decision is dear (the 2D search's tightening
+    /// nodes, two programs per free node). 0: none kept.
+    fn keep_depth(&self) -> usize {
+        0
+    }
+
+    /// `node`, to be kept until its subtree is searched (a unit of the split): without what
+    /// is large and can be made again (a basis's dense inverse).
+    fn shelve(&self, node: Self::Node) -> Self::Node {
+        node
+    }
 
     /// The root.
     fn root(&self) -> Self::Node;
 
+    /// Whether `node` is a leaf (every contact node decided): what its visit finds is recorded,
+    /// so a split decides such a node of the top again; a prune is not (nothing to record).
+    fn is_leaf(&self, node: &Self::Node) -> bool;
+
     /// Decides `node` at `depth` and records what it finds (a leaf, an undecided set) unless
-    /// this is a `rehearsal` (the split's walks over the top, which the shard walks again);
-    /// returns its two children, or `None` when its subtree ends here (or the run must stop).
+    /// this is a `rehearsal` (the split's walks over the top, whose leaves the shard decides
+    /// again); returns its two children, or `None` when its subtree ends here (or the run must
+    /// stop).
     fn visit(
         &self,
         node: Self::Node,
@@ -137,36 +162,86 @@ pub(crate) trait Tree: Sync {
     ) -> Option<(Self::Node, Self::Node)>;
 }
 
-/// Runs a [`Tree`]'s search, whole or one shard of it, and keeps the explored share.
-pub(crate) struct Walk<'t, T: Tree> {
-    tree: &'t T,
-    /// The explored share, in units of `2^-FRACTION_BITS` of the whole tree.
+/// The explored share of a search, for progress reports: in units of `2^-FRACTION_BITS` of the
+/// whole tree, the part explored and the part this run searches (all of it unless sharded).
+pub(crate) struct Explored {
     explored: AtomicU64,
-    /// This run's share of the tree, in the same units (all of it unless sharded).
     share: AtomicU64,
-    /// Nodes visited while finding the split.
-    split_nodes: AtomicU64,
 }
 
-impl<'t, T: Tree> Walk<'t, T> {
-    pub(crate) fn new(tree: &'t T) -> Walk<'t, T> {
-        Walk {
-            tree,
+impl Explored {
+    pub(crate) fn new() -> Explored {
+        Explored {
             explored: AtomicU64::new(0),
             share: AtomicU64::new(1 << FRACTION_BITS),
-            split_nodes: AtomicU64::new(0),
         }
     }
 
     /// The explored part of this run's share of the tree, in `[0, 1]`.
-    pub(crate) fn explored(&self) -> f64 {
+    pub(crate) fn fraction(&self) -> f64 {
         let share = self.share.load(Ordering::Relaxed).max(1) as f64;
         (self.explored.load(Ordering::Relaxed) as f64 / share).min(1.0)
+    }
+
+    /// Starts over (a new pass over the tree).
+    pub(crate) fn reset(&self) {
+        self.explored.store(0, Ordering::Relaxed);
+        self.share.store(1 << FRACTION_BITS, Ordering::Relaxed);
+    }
+}
+
+/// The children of decided nodes, by depth and path.
+type Kept<N> = HashMap<(usize, u64), (N, N)>;
+
+/// Runs a [`Tree`]'s search, whole or one shard of it, and keeps the explored share.
+pub(crate) struct Walk<'t, T: Tree> {
+    tree: &'t T,
+    explored: &'t Explored,
+    /// Nodes visited while finding the split.
+    split_nodes: AtomicU64,
+    /// The children of the nodes above [`Tree::keep_depth`], by depth and path, once decided.
+    kept: Mutex<Kept<T::Node>>,
+}
+
+impl<'t, T: Tree> Walk<'t, T> {
+    pub(crate) fn new(tree: &'t T, explored: &'t Explored) -> Walk<'t, T> {
+        Walk {
+            tree,
+            explored,
+            split_nodes: AtomicU64::new(0),
+            kept: Mutex::new(HashMap::new()),
+        }
+    }
+
+    /// [`Tree::visit`] for the split's walks, which visit the top of the tree more than once:
+    /// the children of a node above [`Tree::keep_depth`] are kept and handed out again. (Only
+    /// nodes with children are kept.)
+    fn visit_top(
+        &self,
+        node: T::Node,
+        depth: usize,
+        path: u64,
+        rehearsal: bool,
+    ) -> Option<(T::Node, T::Node)> {
+        if depth >= self.tree.keep_depth() {
+            return self.tree.visit(node, depth, rehearsal);
+        }
+        let key = (depth, path);
+        if let Some(children) = self.kept.lock().expect("no panics while held").get(&key) {
+            return Some(children.clone());
+        }
+        let children = self.tree.visit(node, depth, rehearsal)?;
+        self.kept
+            .lock()
+            .expect("no panics while held")
+            .insert(key, children.clone());
+        Some(children)
     }
 
     fn close(&self, depth: usize) {
         if depth <= FRACTION_BITS {
             self.explored
+                .explored
                 .fetch_add(1u64 << (FRACTION_BITS - depth), Ordering::Relaxed);
         }
     }
@@ -189,7 +264,12 @@ impl<'t, T: Tree> Walk<'t, T> {
             self.dive(self.tree.root(), 0);
             return Some(report);
         }
-        let (depth, units) = self.split(shard.count);
+        let Top {
+            depth,
+            units,
+            ends,
+            leaves,
+        } = self.split(shard.count);
         report.split_nodes = self.split_nodes.load(Ordering::Relaxed);
         report.split_depth = depth;
         report.units = units.len();
@@ -200,15 +280,27 @@ impl<'t, T: Tree> Walk<'t, T> {
             self.dive(self.tree.root(), 0);
             return Some(report);
         }
-        let own = (0..units.len())
-            .filter(|&k| Shard::owner(k, shard.count) == shard.index)
-            .count();
-        report.own_units = own;
+        let own: Vec<T::Node> = units
+            .into_iter()
+            .enumerate()
+            .filter(|(k, _)| Shard::owner(*k, shard.count) == shard.index)
+            .map(|(_, node)| node)
+            .collect();
+        report.own_units = own.len();
         // This shard's share: the top's ends (everything but the units) and its own units.
         let unit = 1u64 << (FRACTION_BITS - depth);
-        let top = (1u64 << FRACTION_BITS) - units.len() as u64 * unit;
-        self.share.store(top + own as u64 * unit, Ordering::Relaxed);
-        self.walk(self.tree.root(), 0, 0, depth, &units, shard);
+        let top = (1u64 << FRACTION_BITS) - report.units as u64 * unit;
+        self.explored
+            .share
+            .store(top + own.len() as u64 * unit, Ordering::Relaxed);
+        // The top's prunes are done; its leaves decided again, now recording what they find;
+        // only then the units, so that nothing they find (a `critical` incumbent) changes how
+        // the top was decided.
+        ends.into_iter().for_each(|d| self.close(d));
+        leaves
+            .into_par_iter()
+            .for_each(|(d, node)| self.dive(node, d));
+        own.into_par_iter().for_each(|node| self.dive(node, depth));
         Some(report)
     }
 
@@ -222,57 +314,31 @@ impl<'t, T: Tree> Walk<'t, T> {
         }
     }
 
-    /// The top down to `split`, then the subtrees of `shard`'s units. `path` holds the
-    /// branches taken (bit 0 the first child), so that at depth `split` it is the unit's key.
-    fn walk(
-        &self,
-        node: T::Node,
-        depth: usize,
-        path: u64,
-        split: usize,
-        units: &[u64],
-        shard: Shard,
-    ) {
-        if depth == split {
-            let own = units
-                .binary_search(&path)
-                .is_ok_and(|k| Shard::owner(k, shard.count) == shard.index);
-            if own {
-                self.dive(node, depth);
-            }
-            return;
-        }
-        match self.tree.visit(node, depth, false) {
-            None => self.close(depth),
-            Some((a, b)) => {
-                rayon::join(
-                    || self.walk(a, depth + 1, path << 1, split, units, shard),
-                    || self.walk(b, depth + 1, (path << 1) | 1, split, units, shard),
-                );
-            }
-        }
-    }
-
-    /// The split depth for `count` shards and the units' paths there, in depth-first order
-    /// (which is their numeric order). Empty when the tree ends above every depth tried.
+    /// The split depth for `count` shards and the units there, in depth-first order,
+    /// with the top's ends. No units when the tree ends above every depth tried.
     ///
     /// Deepens until [`UNITS_PER_SHARD`] units per shard are open, or, once there are
     /// [`MIN_UNITS_PER_SHARD`] per shard, until the open nodes stop growing (by less than
     /// [`PLATEAU`] since the last depth tried): a narrow tree (the plug at m = 40 keeps about 200
     /// open nodes from depth 10 to 40) would otherwise be walked almost whole by every shard.
-    fn split(&self, count: usize) -> (usize, Vec<u64>) {
+    fn split(&self, count: usize) -> Top<T::Node> {
         let target = UNITS_PER_SHARD.saturating_mul(count);
         let least = MIN_UNITS_PER_SHARD.saturating_mul(count);
         let mut depth = levels(target);
-        let mut best: (usize, Vec<u64>) = (0, Vec::new());
+        let mut best = Top {
+            depth: 0,
+            units: Vec::new(),
+            ends: Vec::new(),
+            leaves: Vec::new(),
+        };
         while depth <= MAX_SPLIT_DEPTH {
-            let units = self.frontier(self.tree.root(), 0, 0, depth);
-            if units.is_empty() {
+            let top = self.top(self.tree.root(), 0, 0, depth);
+            if top.units.is_empty() {
                 break;
             }
-            let before = best.1.len();
-            let n = units.len();
-            best = (depth, units);
+            let before = best.units.len();
+            let n = top.units.len();
+            best = top;
             if n >= target || (n >= least && (n as f64) < PLATEAU * before as f64) {
                 break;
             }
@@ -283,24 +349,49 @@ impl<'t, T: Tree> Walk<'t, T> {
         best
     }
 
-    /// The paths of the open nodes at depth `split` below `node`, in depth-first order.
-    fn frontier(&self, node: T::Node, depth: usize, path: u64, split: usize) -> Vec<u64> {
+    /// The top of the subtree of `node` down to depth `split`: the open nodes there (shelved),
+    /// the depths of the nodes above it whose subtrees end, and those of them that are leaves
+    /// (a rehearsal records nothing, so they are decided again), in depth-first order.
+    fn top(&self, node: T::Node, depth: usize, path: u64, split: usize) -> Top<T::Node> {
+        let mut top = Top {
+            depth: split,
+            units: Vec::new(),
+            ends: Vec::new(),
+            leaves: Vec::new(),
+        };
         if depth == split {
-            return vec![path];
+            top.units.push(self.tree.shelve(node));
+            return top;
         }
         self.split_nodes.fetch_add(1, Ordering::Relaxed);
-        match self.tree.visit(node, depth, true) {
-            None => Vec::new(),
+        let leaf = self.tree.is_leaf(&node).then(|| node.clone());
+        match self.visit_top(node, depth, path, true) {
+            None => {
+                top.ends.push(depth);
+                top.leaves.extend(leaf.map(|n| (depth, n)));
+                top
+            }
             Some((a, b)) => {
                 let (mut left, right) = rayon::join(
-                    || self.frontier(a, depth + 1, path << 1, split),
-                    || self.frontier(b, depth + 1, (path << 1) | 1, split),
+                    || self.top(a, depth + 1, path << 1, split),
+                    || self.top(b, depth + 1, (path << 1) | 1, split),
                 );
-                left.extend(right);
+                left.units.extend(right.units);
+                left.ends.extend(right.ends);
+                left.leaves.extend(right.leaves);
                 left
             }
         }
     }
+}
+
+/// The top of a tree above a split depth: the open nodes at the depth (the units), the depths
+/// of the nodes above it whose subtrees end, and the leaves among those, with their depths.
+struct Top<N> {
+    depth: usize,
+    units: Vec<N>,
+    ends: Vec<usize>,
+    leaves: Vec<(usize, N)>,
 }
 
 /// The levels of a binary tree that hold `n` nodes: `ceil(log2 n)`.
@@ -325,6 +416,11 @@ mod tests {
         fn root(&self) -> u64 {
             1
         }
+        fn is_leaf(&self, node: &u64) -> bool {
+            let depth = node.ilog2() as usize;
+            let h = node.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 59;
+            depth >= 14 || (depth >= 3 && h < 3)
+        }
         fn visit(&self, node: u64, depth: usize, rehearsal: bool) -> Option<(u64, u64)> {
             self.visits.fetch_add(1, Ordering::Relaxed);
             let h = node.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 59;
@@ -348,7 +444,7 @@ mod tests {
     #[test]
     fn shards_cover_the_tree_once_below_the_split() {
         let whole = toy();
-        Walk::new(&whole).run(None);
+        Walk::new(&whole, &Explored::new()).run(None);
         let mut all = whole.leaves.into_inner().unwrap();
         all.sort();
         for count in [1, 2, 3, 5, 16] {
@@ -356,9 +452,10 @@ mod tests {
             let mut tops = 0;
             for index in 1..=count {
                 let part = toy();
-                let walk = Walk::new(&part);
+                let explored = Explored::new();
+                let walk = Walk::new(&part, &explored);
                 let report = walk.run(Some(Shard::new(index, count).unwrap())).unwrap();
-                assert!((walk.explored() - 1.0).abs() < 1e-12, "{index}/{count}");
+                assert!((explored.fraction() - 1.0).abs() < 1e-12, "{index}/{count}");
                 assert!(count == 1 || report.units >= MIN_UNITS_PER_SHARD * count);
                 tops = report.split_depth;
                 union.extend(part.leaves.into_inner().unwrap());

@@ -1,13 +1,14 @@
 //! Shards (issue 24): the merge of the shards `1/N .. N/N` of a pattern search equals the one
 //! run, piece for piece and witness for witness (bit for bit: every decision is deterministic),
 //! for `pattern-search` (2D) and `bnb` (2D and 3D), on seeded random problems, floating notches
-//! and the triangle plug; and the split is balanced on the plug.
+//! and the triangle plug; the split is balanced on the plug; and the merged bracket of `mu*`
+//! from the shards of `critical`'s `bnb` holds the one run's `mu*` (2D and 3D, certified too).
 
 use wedged::examples::{floating_notch, random_spd_problem, random_spd_problem_dim};
 use wedged::patterns::{
     enumerate_patterns, merge_shards, PatternMethod, PatternSettings, Patterns,
 };
-use wedged::{Outcome, Problem, Shard};
+use wedged::{critical, Critical, CriticalSettings, CriticalStatus, Outcome, Problem, Shard};
 
 fn run(problem: &Problem, method: PatternMethod, shard: Option<Shard>) -> Patterns {
     enumerate_patterns(
@@ -152,4 +153,86 @@ fn methods_without_a_tree_refuse_shards() {
     )
     .unwrap_err();
     assert!(e.to_string().contains("shards split a search tree"), "{e}");
+}
+
+fn critical_run(problem: &Problem, shard: Option<Shard>, certify: bool) -> Critical {
+    critical(
+        problem,
+        &CriticalSettings {
+            shard,
+            certify,
+            ..CriticalSettings::default()
+        },
+    )
+    .unwrap()
+}
+
+/// Both brackets hold `mu*`: they overlap, and each is as narrow as asked.
+fn same_bracket(a: &Critical, b: &Critical, what: &str) {
+    assert_eq!(a.status, b.status, "{what}");
+    if a.status != CriticalStatus::Wedged {
+        return;
+    }
+    let (al, au) = (a.lower.unwrap(), a.upper.unwrap());
+    let (bl, bu) = (b.lower.unwrap(), b.upper.unwrap());
+    assert!(
+        al <= bu && bl <= au,
+        "{what}: [{al}, {au}] and [{bl}, {bu}]"
+    );
+    assert!((au - al) <= 2e-9 * au && (bu - bl) <= 2e-9 * bu, "{what}");
+    assert!((au - bu).abs() <= 2e-9 * au, "{what}: {au} against {bu}");
+}
+
+#[test]
+fn merged_critical_shards_bracket_the_one_run_mu() {
+    let mut wedged = 0;
+    for seed in 0..24u64 {
+        let m = 3 + (seed as usize % 6);
+        let p = if seed % 4 == 3 {
+            random_spd_problem_dim(3, 2 + (seed as usize % 3), 1.0, 2600 + seed)
+        } else {
+            random_spd_problem(m, 1.0, 2600 + seed)
+        };
+        let whole = critical_run(&p, None, false);
+        wedged += usize::from(whole.status == CriticalStatus::Wedged);
+        for count in [2, 3, 8] {
+            let parts: Vec<Critical> = (1..=count)
+                .map(|i| critical_run(&p, Some(Shard::new(i, count).unwrap()), false))
+                .collect();
+            let merged = critical::merge_shards(parts).unwrap();
+            same_bracket(&merged, &whole, &format!("seed {seed}, N = {count}"));
+            if let Some(w) = &merged.witness {
+                // The witness is a solution at the merged upper end.
+                wedged::solution::check_solution(&p, merged.upper.unwrap(), &w.u, &w.r).unwrap();
+            }
+        }
+    }
+    assert!(wedged > 12, "{wedged} of 24 wedge");
+}
+
+#[test]
+fn merged_critical_shards_on_the_plug_and_certified() {
+    let p = wedged::examples::plug2d_tri(12)
+        .unwrap()
+        .problem(2.0)
+        .unwrap();
+    let whole = critical_run(&p, None, false);
+    let parts: Vec<Critical> = (1..=5)
+        .map(|i| critical_run(&p, Some(Shard::new(i, 5).unwrap()), false))
+        .collect();
+    assert!(parts.iter().all(|c| c.shard.unwrap().units >= 20));
+    same_bracket(
+        &critical::merge_shards(parts).unwrap(),
+        &whole,
+        "plug m = 24",
+    );
+    // --certify: every shard certifies its part; the merge is certified when all are.
+    let p = random_spd_problem(5, 1.0, 31);
+    let whole = critical_run(&p, None, true);
+    let parts: Vec<Critical> = (1..=3)
+        .map(|i| critical_run(&p, Some(Shard::new(i, 3).unwrap()), true))
+        .collect();
+    let merged = critical::merge_shards(parts).unwrap();
+    same_bracket(&merged, &whole, "certified");
+    assert!(merged.certificate.unwrap().certified);
 }

@@ -46,6 +46,7 @@ pub(crate) fn critical_job<'a>(
         tol: common.tol,
         time_limit: common.time_limit,
         certify,
+        shard: None,
     })?;
     let (loaded, mu_given) =
         problem_file::load_for_critical(problem).map_err(|e| Failure::Input(e.to_string()))?;
@@ -62,7 +63,12 @@ pub(crate) fn critical_job<'a>(
 }
 
 pub(crate) fn run_critical(args: CriticalArgs) -> Result<(), Failure> {
-    let job = critical_job(
+    if let (Some(shard), None) = (args.shard, &args.json.json) {
+        return Err(Failure::Input(format!(
+            "--shard {shard} writes a part for `wedged merge`: give --json PART.json"
+        )));
+    }
+    let mut job = critical_job(
         &args.problem,
         args.method.map_or(CriticalMethod::Bnb, |m| m.0),
         args.certify,
@@ -70,6 +76,16 @@ pub(crate) fn run_critical(args: CriticalArgs) -> Result<(), Failure> {
         args.json.json.as_deref(),
         None,
     )?;
+    if let Some(shard) = args.shard {
+        if job.settings.method != CriticalMethod::Bnb {
+            return Err(Failure::Input(format!(
+                "--shard {shard} splits the search tree of --method bnb; --method {} has none \
+                 to split",
+                job.settings.method.name()
+            )));
+        }
+        job.settings.shard = Some(shard);
+    }
     report_critical(job)
 }
 

@@ -35,6 +35,7 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
         tol: args.common.tol,
         time_limit: args.common.time_limit,
         certify: args.certify,
+        shard: None,
     })?;
     let x_key = x_axis(&parameters, args.x.as_deref()).map_err(input)?;
     let source = args.problem.display().to_string();

@@ -309,6 +309,7 @@ mod tests {
                 .collect(),
             undecided: Vec::new(),
             certificate: None,
+            shard: None,
             info: CriticalInfo {
                 mu_enumerated: Some(3.2),
                 tol_achieved: 1e-7,

@@ -49,18 +49,13 @@ impl Choice {
             Choice::Rays(s) => (s.zero_tol, false),
             Choice::Patterns(s) => (s.zero_tol, s.certify),
         };
-        let mut h = problem.fingerprint();
         let text = format!(
-            "{} {:?} {} {certify}",
+            "enumerate {} {:?} {} {certify}",
             self.name(),
             self.pyramid_faces(),
             zero_tol.to_bits()
         );
-        for byte in text.bytes() {
-            h ^= u64::from(byte);
-            h = h.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-        format!("{h:016x}")
+        crate::report::json::fingerprint(problem, &text)
     }
 }
 

@@ -14,7 +14,8 @@
 //!   "certificate": { "upper": 1.78 | null, "refutations_checked": 148,
 //!                    "refutations_failed": 0, "resolved": 0, "failures": [".."] } | null,
 //!   "model": { .. },                                   (meshed bodies only, as in `enumerate`)
-//!   "version": "0.1.0" }
+//!   "version": "0.1.0",
+//!   "shard": { .. } }                                  (--shard parts only, as in `enumerate`)
 //! ```
 //!
 //! - `status` `wedged`: `mu_critical` = `upper`, a witness (a solution of the wedged problem at
@@ -43,7 +44,7 @@ use wedged::{
     Critical, CriticalInfo, CriticalSettings, CriticalStatus, NodeStatus, PatternThreshold, Problem,
 };
 
-use crate::report::json::{ModelJson, UndecidedJson};
+use crate::report::json::{fingerprint, ModelJson, ShardJson, UndecidedJson};
 use crate::report::sig4;
 use crate::report::summary::{
     codes, pattern_code, plural, seconds_text, status_code, status_legend, wrapped, PATTERN_LEGEND,
@@ -83,6 +84,9 @@ pub struct CriticalReport<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub model: Option<ModelJson>,
     pub version: &'static str,
+    /// A part of a sharded run (`--shard I/N`), as in `enumerate`'s JSON.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shard: Option<ShardJson>,
 }
 
 /// The exact checks of `--certify` ([`wedged::critical::certify::CriticalCertificate`]).
@@ -245,6 +249,15 @@ impl<'a> CriticalReport<'a> {
             }),
             model: model.map(ModelJson::new),
             version: env!("CARGO_PKG_VERSION"),
+            shard: result.shard.map(|s| {
+                let settings = format!(
+                    "critical {} {} {}",
+                    settings.method.name(),
+                    settings.tol.to_bits(),
+                    settings.certify
+                );
+                ShardJson::new("critical", &s, fingerprint(problem, &settings))
+            }),
         }
     }
 }
@@ -391,6 +404,14 @@ pub fn render(
         settings.method.name(),
         settings.tol
     );
+    if let Some(s) = result.shard {
+        let _ = writeln!(
+            out,
+            "shard {}/{}: the search split at depth {} into {} units, {} of them here; this is \
+             this part's bracket: `wedged merge` the parts for mu*",
+            s.index, s.count, s.split_depth, s.units, s.own_units
+        );
+    }
     match (result.status, result.upper) {
         (CriticalStatus::Wedged | CriticalStatus::Never, _) => {
             if let Some(line) = answer_line(result, settings.tol) {
@@ -740,6 +761,7 @@ mod tests {
             thresholds: Vec::new(),
             undecided: Vec::new(),
             certificate: None,
+            shard: None,
             info: CriticalInfo {
                 tol_achieved: (1.788_243_05 - 1.788_241_37) / 1.788_243_05,
                 ..CriticalInfo::default()

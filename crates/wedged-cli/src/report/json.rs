@@ -14,8 +14,8 @@
 //!          | { "method", "pyramid_faces", every field of wedged::PatternInfo }  (pattern methods),
 //!   "model": { .. },                                                (meshed bodies only)
 //!   "version": "0.1.0",
-//!   "shard": { "index", "count", "fingerprint", "split_depth", "units", "own_units",
-//!              "split_nodes" } }                                   (--shard parts only)
+//!   "shard": { "command", "index", "count", "fingerprint", "split_depth", "units",
+//!              "own_units", "split_nodes" } }                      (--shard parts only)
 //! ```
 //!
 //! Every key is always there (`model` for a meshed body only), whatever the method:
@@ -99,10 +99,12 @@ pub struct Report<'a> {
     pub shard: Option<ShardJson>,
 }
 
-/// How a shard's search was split ([`wedged::ShardReport`]), and the run's fingerprint
-/// ([`Choice::fingerprint`]), which every part of one run shares.
+/// How a shard's search was split ([`wedged::ShardReport`]), the command (`enumerate` or
+/// `critical`), and the run's fingerprint ([`Choice::fingerprint`], [`fingerprint`]), which
+/// every part of one run shares.
 #[derive(Debug, Serialize)]
 pub struct ShardJson {
+    pub command: &'static str,
     pub index: usize,
     pub count: usize,
     pub fingerprint: String,
@@ -110,6 +112,32 @@ pub struct ShardJson {
     pub units: usize,
     pub own_units: usize,
     pub split_nodes: u64,
+}
+
+impl ShardJson {
+    pub fn new(command: &'static str, s: &wedged::ShardReport, fingerprint: String) -> ShardJson {
+        ShardJson {
+            command,
+            index: s.index,
+            count: s.count,
+            fingerprint,
+            split_depth: s.split_depth,
+            units: s.units,
+            own_units: s.own_units,
+            split_nodes: s.split_nodes,
+        }
+    }
+}
+
+/// The fingerprint of a run on `problem` with the settings that `settings` spells out, as 16
+/// hex digits: the problem's ([`wedged::Problem::fingerprint`]) folded with the text (FNV-1a).
+pub fn fingerprint(problem: &Problem, settings: &str) -> String {
+    let mut h = problem.fingerprint();
+    for byte in settings.bytes() {
+        h ^= u64::from(byte);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{h:016x}")
 }
 
 /// The finite-element model of a `[mesh]` problem.
@@ -519,15 +547,9 @@ impl<'a> Report<'a> {
             info: header.info,
             model: model.map(ModelJson::new),
             version: env!("CARGO_PKG_VERSION"),
-            shard: answer.shard().map(|s| ShardJson {
-                index: s.index,
-                count: s.count,
-                fingerprint: choice.fingerprint(problem),
-                split_depth: s.split_depth,
-                units: s.units,
-                own_units: s.own_units,
-                split_nodes: s.split_nodes,
-            }),
+            shard: answer
+                .shard()
+                .map(|s| ShardJson::new("enumerate", &s, choice.fingerprint(problem))),
         }
     }
 }

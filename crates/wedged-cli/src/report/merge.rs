@@ -1,5 +1,5 @@
-//! `wedged merge`: the parts of a sharded run (`wedged enumerate --shard I/N --json part.json`)
-//! merged into the JSON that one run writes.
+//! `wedged merge`: the parts of a sharded run (`wedged enumerate --shard I/N --json part.json`,
+//! or `wedged critical`) merged into the JSON that one run writes.
 //!
 //! The merge works on the JSON documents, so that it needs neither the problem file nor the
 //! mesh: every part carries the whole header (and the model of a meshed body), and its `shard`
@@ -13,6 +13,10 @@
 //! one run's (a witness depends on its pattern alone). So the merged document equals one run's
 //! except `info`: its counters are the sums of the shards' (the top of the tree, which every
 //! shard solves, once per shard), `seconds` and `peak_rss_bytes` the largest shard's.
+//!
+//! The parts of `critical` merge by [`wedged::critical::merge_shards`]'s rule: the least
+//! `upper` with its witness, the least `lower` of the shards that found a leaf, `never` when
+//! none did.
 
 use serde_json::{Map, Value};
 use wedged::patterns::{check_shards, keep_maximal, missing_text};
@@ -53,6 +57,21 @@ pub fn merge(parts: &[Part]) -> Result<Merged, String> {
     }
     let read = parts.iter().map(read).collect::<Result<Vec<_>, _>>()?;
     let first = &read[0];
+    let command = |r: &Read| {
+        r.doc["shard"]["command"]
+            .as_str()
+            .unwrap_or("enumerate")
+            .to_string()
+    };
+    if let Some(other) = read.iter().find(|r| command(r) != command(first)) {
+        return Err(format!(
+            "{} is a part of `wedged {}`, {} of `wedged {}`",
+            other.name,
+            command(other),
+            first.name,
+            command(first)
+        ));
+    }
     let fingerprint = |r: &Read| r.doc["shard"]["fingerprint"].clone();
     if let Some(other) = read.iter().find(|r| fingerprint(r) != fingerprint(first)) {
         return Err(format!(
@@ -66,6 +85,9 @@ pub fn merge(parts: &[Part]) -> Result<Merged, String> {
     }
     let shards: Vec<(usize, usize)> = read.iter().map(|r| (r.index, r.count)).collect();
     let missing = check_shards(&shards)?;
+    if command(first) == "critical" {
+        return merge_critical(&read, &missing);
+    }
     let count = first.count;
 
     // The pieces: the maximal patterns of the union, sorted by pattern.
@@ -169,6 +191,158 @@ pub fn merge(parts: &[Part]) -> Result<Merged, String> {
         doc["dim"],
         doc["nodes"],
         doc["mu"],
+        if complete {
+            String::new()
+        } else {
+            format!(" ({})", stopped.join("; "))
+        }
+    );
+    Ok(Merged {
+        json: layout(&Value::Object(doc)),
+        complete,
+        summary,
+    })
+}
+
+/// The parts of a sharded `critical` run (see the module docs).
+fn merge_critical(read: &[Read], missing: &[usize]) -> Result<Merged, String> {
+    let first = &read[0];
+    let count = first.count;
+    let number = |v: &Value| v.as_f64();
+    let mut stopped: Vec<String> = Vec::new();
+    if !missing.is_empty() {
+        stopped.push(format!(
+            "{}, lost or failed: the other shards' bracket only",
+            missing_text(missing, count)
+        ));
+    }
+    for r in read {
+        if r.doc["status"] == "incomplete" {
+            let why = r.doc["stopped"].as_str().unwrap_or("stopped");
+            stopped.push(format!("shard {}/{}: {why}", r.index, r.count));
+        }
+    }
+    let best = read
+        .iter()
+        .filter(|r| number(&r.doc["upper"]).is_some())
+        .min_by(|a, b| {
+            let (x, y) = (number(&a.doc["upper"]), number(&b.doc["upper"]));
+            x.unwrap_or(f64::INFINITY)
+                .total_cmp(&y.unwrap_or(f64::INFINITY))
+        });
+    let complete = stopped.is_empty();
+    let status = if !complete {
+        "incomplete"
+    } else if read.iter().any(|r| r.doc["status"] == "wedged") {
+        "wedged"
+    } else {
+        "never"
+    };
+    let lower = (status == "wedged")
+        .then(|| {
+            read.iter()
+                .filter(|r| r.doc["status"] == "wedged")
+                .filter_map(|r| number(&r.doc["lower"]))
+                .min_by(f64::total_cmp)
+        })
+        .flatten();
+    let upper = best.and_then(|b| number(&b.doc["upper"]));
+    let tol_achieved = match (lower, upper) {
+        (Some(l), Some(u)) => Value::from((u - l) / u),
+        _ => Value::Null,
+    };
+    let mut doc = first.doc.clone();
+    let from_best = |key: &str| best.map_or(Value::Null, |b| b.doc[key].clone());
+    doc.insert("status".into(), status.into());
+    doc.insert("complete".into(), complete.into());
+    doc.insert(
+        "stopped".into(),
+        if complete {
+            Value::Null
+        } else {
+            stopped.join("; ").into()
+        },
+    );
+    doc.insert(
+        "mu_critical".into(),
+        if status == "wedged" {
+            upper.map_or(Value::Null, Value::from)
+        } else {
+            Value::Null
+        },
+    );
+    doc.insert("lower".into(), lower.map_or(Value::Null, Value::from));
+    doc.insert("upper".into(), upper.map_or(Value::Null, Value::from));
+    doc.insert("tol_achieved".into(), tol_achieved.clone());
+    doc.insert("witness".into(), from_best("witness"));
+    doc.insert("pattern".into(), from_best("pattern"));
+    let mut thresholds = Vec::new();
+    let mut undecided = Vec::new();
+    for r in read {
+        thresholds.extend(array(r, "thresholds")?.iter().cloned());
+        undecided.extend(array(r, "undecided")?.iter().cloned());
+    }
+    doc.insert("thresholds".into(), Value::Array(thresholds));
+    doc.insert("undecided".into(), Value::Array(undecided));
+    let mut info = merged_info(read)?;
+    if let Value::Object(map) = &mut info {
+        map.insert("tol_achieved".into(), tol_achieved);
+    }
+    doc.insert("info".into(), info);
+    let certified: Vec<&Value> = read.iter().map(|r| &r.doc["certified"]).collect();
+    doc.insert(
+        "certified".into(),
+        if certified.iter().any(|v| **v == Value::Bool(false)) {
+            Value::Bool(false)
+        } else if certified.iter().all(|v| **v == Value::Bool(true)) && missing.is_empty() {
+            Value::Bool(true)
+        } else {
+            Value::Null
+        },
+    );
+    let certificates: Option<Vec<&Map<String, Value>>> = read
+        .iter()
+        .map(|r| r.doc["certificate"].as_object())
+        .collect();
+    doc.insert(
+        "certificate".into(),
+        match certificates {
+            Some(all) => {
+                let mut merged = all[0].clone();
+                for key in ["refutations_checked", "refutations_failed", "resolved"] {
+                    let sum: u64 = all.iter().filter_map(|c| c[key].as_u64()).sum();
+                    merged.insert(key.into(), sum.into());
+                }
+                let failures: Vec<Value> = all
+                    .iter()
+                    .filter_map(|c| c["failures"].as_array())
+                    .flatten()
+                    .cloned()
+                    .collect();
+                merged.insert("failures".into(), Value::Array(failures));
+                merged.insert(
+                    "upper".into(),
+                    best.map_or(Value::Null, |b| b.doc["certificate"]["upper"].clone()),
+                );
+                Value::Object(merged)
+            }
+            None => Value::Null,
+        },
+    );
+    doc.remove("shard");
+    let bracket = match (lower, upper) {
+        (Some(l), Some(u)) => format!("mu* in [{l}, {u}]"),
+        (None, Some(u)) => format!("mu* at most {u}"),
+        _ => "no bracket".to_string(),
+    };
+    let summary = format!(
+        "merged {} of {count} shards (split at depth {}, {} units) of a {}D problem with {} \
+         nodes: {status}, {bracket}{}\n",
+        read.len(),
+        first.depth,
+        first.units,
+        doc["dim"],
+        doc["nodes"],
         if complete {
             String::new()
         } else {

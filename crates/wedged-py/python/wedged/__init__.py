@@ -390,13 +390,15 @@ class _JsonRun:
         }
 
 
-def merge(parts: Any, problem: Any = None) -> Enumeration:
+def merge(parts: Any, problem: Any = None) -> Any:
     """The one-run answer from the parts of a sharded run (``enumerate(..., shard=(i, n))``
-    for ``i = 1..n``; :class:`Enumeration` objects or their ``to_json()`` texts), as
-    ``wedged merge`` gives it: the pieces that no other piece contains, sorted as one run sorts
-    them. A missing shard gives an incomplete result (``complete`` False, ``stopped`` names
-    it); parts of different runs, or a shard given twice, raise :class:`InputError`.
-    ``problem``: the loaded meshed body, for :meth:`Enumeration.to_meshio`."""
+    or ``critical(..., shard=(i, n))`` for ``i = 1..n``; the results or their ``to_json()``
+    texts), as ``wedged merge`` gives it: an :class:`Enumeration` (the pieces that no other
+    piece contains, sorted as one run sorts them) or a :class:`Critical` (the least upper end
+    with its witness, the least certified lower end). A missing shard gives an incomplete
+    result (``complete`` False, ``stopped`` names it); parts of different runs, or a shard
+    given twice, raise :class:`InputError`. ``problem``: the loaded meshed body, for
+    ``to_meshio``."""
     texts = []
     for k, part in builtins_enumerate(parts):
         text = part.to_json() if hasattr(part, "to_json") else part
@@ -404,6 +406,8 @@ def merge(parts: Any, problem: Any = None) -> Enumeration:
             raise InputError(f"part {k}: not an Enumeration or its JSON text")
         texts.append((f"part {k}", text))
     merged, _complete, _summary = _wedged.merge(texts)
+    if "mu_critical" in _json.loads(merged):
+        return Critical._from_json(merged, problem)
     return Enumeration._from_run(_JsonRun(merged), problem)
 
 
@@ -417,12 +421,14 @@ def critical(
     tol: Optional[float] = None,
     progress: bool = False,
     rigid_modes: Any = None,
+    shard: Any = None,
 ) -> Critical:
     """The critical friction coefficient ``mu*`` of the condensed stiffness ``K``: the least
     ``mu`` at which WP has a solution ``(u, r) != 0``, bracketed to the relative width ``tol``
     (default 1e-9). ``method``: ``bnb`` (default), ``enumerate`` or ``faces``; ``certify``
     checks every pruning decision behind ``lower`` and the witness at ``upper`` exactly.
-    ``rigid_modes``: as in :func:`enumerate`, for a floating body."""
+    ``rigid_modes``: as in :func:`enumerate`, for a floating body. ``shard``: ``(i, n)``, one
+    shard of the ``bnb`` search (combined by :func:`merge`; see :mod:`wedged.distributed`)."""
     text = _wedged.critical(
         _matrix(K),
         dim=int(dim),
@@ -432,6 +438,7 @@ def critical(
         tol=_number("tol", tol),
         progress=bool(progress),
         rigid_modes=_modes(rigid_modes),
+        shard=_shard(shard),
     )
     return Critical._from_json(text)
 
@@ -488,6 +495,8 @@ class Problem:
 
     def critical(self, **kw: Any) -> Critical:
         """As :func:`critical`."""
+        if "shard" in kw:
+            kw["shard"] = _shard(kw["shard"])
         text = self._loaded.critical(**kw)
         return Critical._from_json(text, self if self.is_mesh else None)
 

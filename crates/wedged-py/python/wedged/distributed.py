@@ -1,5 +1,5 @@
-"""A sharded enumeration on a Dask cluster (``dask.distributed``): the shards of the search as
-tasks, merged on the client into the one-run answer.
+"""Sharded runs on a Dask cluster (``dask.distributed``): the shards of an enumeration's or a
+``mu*`` search's tree as tasks, merged on the client into the one-run answer.
 
 ::
 
@@ -9,6 +9,7 @@ tasks, merged on the client into the one-run answer.
     client = Client("scheduler:8786")            # or LocalCluster(), or dask-jobqueue's SLURMCluster
     result = wedged.distributed.enumerate("plug.toml", client=client, mu=2.0)
     result.patterns                               # as wedged.load("plug.toml").enumerate(mu=2.0)
+    wedged.distributed.critical("plug.toml", client=client).mu   # as wedged.load(...).critical()
 
 Each task runs ``enumerate(..., shard=(i, n))`` (``wedged enumerate --shard i/n``) on a worker
 and hands back its part's JSON; :func:`wedged.merge` combines them. Every worker computes the
@@ -31,12 +32,13 @@ from typing import Any, Optional
 
 import numpy as np
 
-from . import Enumeration, InputError, _matrix, _modes, _number
+from . import Critical, Enumeration, InputError, _matrix, _modes, _number
+from . import critical as _critical
 from . import enumerate as _enumerate
 from . import load as _load
 from . import merge as _merge
 
-__all__ = ["enumerate"]
+__all__ = ["critical", "enumerate"]
 
 #: Shards per worker when ``shards`` is not given.
 SHARDS_PER_WORKER = 8
@@ -49,6 +51,68 @@ def _part(spec: tuple, shard: str, options: dict) -> str:
         return _load(what).enumerate(mu=mu, shard=shard, **options).to_json()
     k, dim, modes = what
     return _enumerate(k, mu, dim=dim, rigid_modes=modes, shard=shard, **options).to_json()
+
+
+def _critical_part(spec: tuple, shard: str, options: dict) -> str:
+    """One shard's JSON text of ``mu*`` (runs on a worker)."""
+    kind, what = spec
+    if kind == "file":
+        return _load(what).critical(shard=shard, **options).to_json()
+    k, dim, modes = what
+    return _critical(k, dim=dim, rigid_modes=modes, shard=shard, **options).to_json()
+
+
+def _spec(problem: Any, dim: int, rigid_modes: Any) -> tuple:
+    """What goes to the workers: a problem file's path, or the matrix; and the loaded problem
+    (None for a matrix)."""
+    if isinstance(problem, (str, os.PathLike)):
+        return ("file", os.fspath(problem)), _load(os.fspath(problem))
+    if hasattr(problem, "source") and hasattr(problem, "is_mesh"):
+        return ("file", problem.source), problem
+    return ("matrix", (_matrix(problem), int(dim), _modes(rigid_modes))), None
+
+
+def _shards(client: Any, shards: Optional[int]) -> int:
+    if shards is None:
+        workers = len(client.scheduler_info().get("workers", {}))
+        shards = SHARDS_PER_WORKER * max(workers, 1)
+    if not isinstance(shards, (int, np.integer)) or isinstance(shards, bool) or shards < 1:
+        raise InputError(f"shards must be a whole number of at least 1, got {shards!r}")
+    return int(shards)
+
+
+def critical(
+    problem: Any,
+    *,
+    client: Any,
+    shards: Optional[int] = None,
+    dim: int = 2,
+    rigid_modes: Any = None,
+    method: Optional[str] = None,
+    time_limit: Optional[float] = None,
+    certify: bool = False,
+    tol: Optional[float] = None,
+) -> Critical:
+    """``mu*`` of ``problem`` by ``shards`` Dask tasks on ``client``, each a shard of the
+    ``bnb`` search with its own incumbent, merged: the least upper end with its witness and
+    the least certified lower end (see :func:`wedged.merge`). Arguments as in
+    :func:`enumerate` and :func:`wedged.critical`; ``time_limit`` is per shard. The shards
+    do not share their incumbents, so together they do more work than one run; what they
+    gain is the cores and machines."""
+    options = {
+        "method": method,
+        "time_limit": _number("time_limit", time_limit),
+        "certify": bool(certify),
+        "tol": _number("tol", tol),
+    }
+    spec, loaded = _spec(problem, dim, rigid_modes)
+    count = _shards(client, shards)
+    futures = [
+        client.submit(_critical_part, spec, f"{i}/{count}", options, pure=False)
+        for i in range(1, count + 1)
+    ]
+    parts = client.gather(futures)
+    return _merge(parts, loaded if loaded is not None and loaded.is_mesh else None)
 
 
 def enumerate(
@@ -80,24 +144,13 @@ def enumerate(
         "certify": bool(certify),
     }
     mu = _number("mu", mu)
-    loaded = None
-    if isinstance(problem, (str, os.PathLike)):
-        spec = ("file", os.fspath(problem), mu)
-        loaded = _load(os.fspath(problem))
-    elif hasattr(problem, "source") and hasattr(problem, "is_mesh"):
-        spec = ("file", problem.source, mu)
-        loaded = problem
-    else:
-        if mu is None:
-            raise InputError("mu is required for a matrix problem")
-        spec = ("matrix", (_matrix(problem), int(dim), _modes(rigid_modes)), mu)
+    (kind, what), loaded = _spec(problem, dim, rigid_modes)
+    if loaded is None and mu is None:
+        raise InputError("mu is required for a matrix problem")
     if loaded is not None and mu is None and loaded.mu is None:
         raise InputError(f"{loaded.source}: the file gives no mu; pass mu=...")
-    if shards is None:
-        workers = len(client.scheduler_info().get("workers", {}))
-        shards = SHARDS_PER_WORKER * max(workers, 1)
-    if not isinstance(shards, (int, np.integer)) or shards < 1:
-        raise InputError(f"shards must be a whole number of at least 1, got {shards!r}")
+    spec = (kind, what, mu)
+    shards = _shards(client, shards)
     futures = [
         client.submit(_part, spec, f"{i}/{shards}", options, pure=False)
         for i in range(1, shards + 1)

@@ -46,6 +46,18 @@ pub(crate) struct Warm {
     drive: usize,
 }
 
+impl Warm {
+    /// The same start without the basis's dense inverse (`(3m)^2` numbers, refactored when
+    /// next used): for a search node kept until later (a unit of a sharded search).
+    pub(crate) fn shelved(&self) -> Warm {
+        Warm {
+            basis: self.basis.without_inverse(),
+            mu: self.mu,
+            drive: self.drive,
+        }
+    }
+}
+
 /// The matrix of a program: the level `mu` and the drive bounds of the cuts.
 #[derive(Clone, Copy)]
 pub(crate) struct Shape<'d> {

@@ -163,6 +163,15 @@ impl Basis {
         self.inv = None;
     }
 
+    /// The same basis without its inverse (refactored on the next solve): small to keep.
+    pub(crate) fn without_inverse(&self) -> Basis {
+        Basis {
+            head: self.head.clone(),
+            at: self.at.clone(),
+            inv: None,
+        }
+    }
+
     fn fits(&self, lp: &Lp) -> bool {
         self.head.len() == lp.rows && self.at.len() == lp.total()
     }

@@ -44,9 +44,7 @@ use crate::conic::node_lp::{self as lp, LpCounters, Shape, Warm};
 use crate::conic::program::{Class, Decision, Formulation, Goal, Norm};
 use crate::patterns::Undecided;
 use crate::run::Control;
-
-/// Explored fractions are counted in units of `2^-FRACTION_BITS` of the tree.
-const FRACTION_BITS: usize = 62;
+use crate::shard::{self, Explored, Shard, Walk};
 
 /// Search nodes down to this depth, or to `m /` [`TIGHTEN_PER_DEPTH`] when that is deeper,
 /// tighten the bounds of their undecided nodes' drives ([`cuts::tighten`]); deeper ones
@@ -84,7 +82,6 @@ struct Search<'a, 'b, 'c> {
     visited: AtomicU64,
     pruned: AtomicU64,
     leaves: AtomicU64,
-    explored: AtomicU64,
     /// Whether the search uses drive cuts (not in a certified run).
     cut: bool,
     tightened: AtomicU64,
@@ -95,13 +92,6 @@ struct Search<'a, 'b, 'c> {
 impl Search<'_, '_, '_> {
     fn form(&self) -> &Formulation<'_> {
         self.ctx.form
-    }
-
-    fn close(&self, depth: usize) {
-        if depth <= FRACTION_BITS {
-            self.explored
-                .fetch_add(1u64 << (FRACTION_BITS - depth), Ordering::Relaxed);
-        }
     }
 
     fn incumbent(&self) -> f64 {
@@ -138,24 +128,65 @@ impl Search<'_, '_, '_> {
             .expect("no panics while held")
             .push(Undecided { contact, reason });
     }
+}
 
-    fn explore(
-        &self,
-        classes: Vec<Class>,
-        depth: usize,
-        drive: Option<Arc<Bounds>>,
-        warm: Option<Arc<Warm>>,
-    ) {
-        if self.control.must_stop(0) {
-            return;
+/// A search node: the class of every node, the drive bounds known so far and the parent's
+/// final basis.
+#[derive(Clone)]
+struct Node {
+    classes: Vec<Class>,
+    drive: Option<Arc<Bounds>>,
+    warm: Option<Arc<Warm>>,
+}
+
+impl shard::Tree for Search<'_, '_, '_> {
+    type Node = Node;
+
+    fn is_leaf(&self, node: &Node) -> bool {
+        node.classes.iter().all(|&c| c != Class::Free)
+    }
+
+    fn root(&self) -> Node {
+        Node {
+            classes: vec![Class::Free; self.form().m],
+            drive: None,
+            warm: None,
         }
+    }
+
+    /// The tightening nodes (two programs per undecided node each).
+    fn keep_depth(&self) -> usize {
+        if self.cut {
+            TIGHTEN_DEPTH.max(self.form().m / TIGHTEN_PER_DEPTH) + 1
+        } else {
+            0
+        }
+    }
+
+    fn shelve(&self, node: Node) -> Node {
+        Node {
+            warm: node.warm.map(|w| Arc::new(w.shelved())),
+            ..node
+        }
+    }
+
+    /// Decides the node (a leaf: its threshold, offered as the incumbent; not in a rehearsal,
+    /// which leaves leaves alone); returns its children unless it is pruned or a leaf.
+    fn visit(&self, node: Node, depth: usize, rehearsal: bool) -> Option<(Node, Node)> {
+        if self.control.must_stop(0) {
+            return None;
+        }
+        let Node {
+            classes,
+            drive,
+            warm,
+        } = node;
         let m = self.form().m;
         let contact: Vec<usize> = (0..m).filter(|&i| classes[i] == Class::Contact).collect();
         let free: Vec<usize> = (0..m).filter(|&i| classes[i] == Class::Free).collect();
-        if free.is_empty() && contact.is_empty() {
-            // Every node separated: only the trivial solution.
-            self.close(depth);
-            return;
+        if free.is_empty() && (contact.is_empty() || rehearsal) {
+            // Every node separated: only the trivial solution. (Or a leaf in a rehearsal.)
+            return None;
         }
         let level = self.level();
         let norm = if contact.is_empty() {
@@ -209,8 +240,7 @@ impl Search<'_, '_, '_> {
                 None => {
                     self.ctx.tally.certificates.fetch_add(1, Ordering::Relaxed);
                     self.pruned.fetch_add(1, Ordering::Relaxed);
-                    self.close(depth);
-                    return;
+                    return None;
                 }
             }
         }
@@ -280,31 +310,32 @@ impl Search<'_, '_, '_> {
                     }
                 },
             }
-            self.close(depth);
-            return;
+            return None;
         }
         let witness = match decision {
             Decision::No => {
                 self.ctx.tally.certificates.fetch_add(1, Ordering::Relaxed);
                 self.pruned.fetch_add(1, Ordering::Relaxed);
-                self.close(depth);
-                return;
+                return None;
             }
             Decision::Yes { r, .. } => Some(r),
             Decision::Unsure(_) => None,
         };
-        self.branch(classes, depth, witness, &free, drive, warm)
+        Some(self.branch(classes, witness, &free, drive, warm))
     }
+}
 
+impl Search<'_, '_, '_> {
+    /// The children of a node: the free node whose relaxed solution breaks complementarity
+    /// most, in contact and separated.
     fn branch(
         &self,
         classes: Vec<Class>,
-        depth: usize,
         witness: Option<Vec<f64>>,
         free: &[usize],
         drive: Option<Arc<Bounds>>,
         warm: Option<Arc<Warm>>,
-    ) {
+    ) -> (Node, Node) {
         let branch = match &witness {
             None => free[0],
             Some(r) => {
@@ -329,11 +360,18 @@ impl Search<'_, '_, '_> {
         to_contact[branch] = Class::Contact;
         let mut to_separated = classes;
         to_separated[branch] = Class::Separated;
-        let (other, other_warm) = (drive.clone(), warm.clone());
-        rayon::join(
-            || self.explore(to_contact, depth + 1, drive, warm),
-            || self.explore(to_separated, depth + 1, other, other_warm),
-        );
+        (
+            Node {
+                classes: to_contact,
+                drive: drive.clone(),
+                warm: warm.clone(),
+            },
+            Node {
+                classes: to_separated,
+                drive,
+                warm,
+            },
+        )
     }
 }
 
@@ -362,6 +400,7 @@ fn bars(mu: f64) -> Vec<f64> {
 pub(super) fn run(
     ctx: &Ctx,
     info: &mut CriticalInfo,
+    shard: Option<Shard>,
     progress: &dyn Fn(CriticalProgress),
     control: &Control,
 ) -> Found {
@@ -376,33 +415,37 @@ pub(super) fn run(
         visited: AtomicU64::new(0),
         pruned: AtomicU64::new(0),
         leaves: AtomicU64::new(0),
-        explored: AtomicU64::new(0),
         // A floating body's programs carry its rigid amplitudes, which the linear programs of
         // node_lp and the drive cuts are not written for: Clarabel decides them all.
         cut: ctx.form.refutations.is_none() && ctx.form.dim == 2 && ctx.form.modes == 0,
         tightened: AtomicU64::new(0),
         lp: LpCounters::default(),
     };
-    let report = |search: &Search| {
+    let explored = Explored::new();
+    let report = || {
         let best = search.incumbent();
         progress(CriticalProgress {
-            explored: search.explored.load(Ordering::Relaxed) as f64 / (1u64 << 62) as f64,
+            explored: explored.fraction(),
             upper: best.is_finite().then_some(best),
         });
     };
-    crate::run::with_progress(
+    // A pass per bar; each shard's passes split their trees alike (see `crate::shard`: the
+    // top is decided at the bar, before any leaf).
+    let split = crate::run::with_progress(
         || {
+            let mut split = None;
             for bar in bars(ctx.form.mu) {
                 search.bar.store(bar.to_bits(), Ordering::Relaxed);
-                search.explored.store(0, Ordering::Relaxed);
-                search.explore(vec![Class::Free; ctx.form.m], 0, None, None);
+                explored.reset();
+                split = Walk::new(&search, &explored).run(shard);
                 let found = search.best.lock().map_or(true, |b| b.is_some());
                 if found || control.stopped().is_some() {
                     break;
                 }
             }
+            split
         },
-        || report(&search),
+        report,
     );
     info.nodes_visited = search.visited.into_inner();
     info.pruned_infeasible = search.pruned.into_inner();
@@ -423,5 +466,6 @@ pub(super) fn run(
         thresholds: Vec::new(),
         undecided: search.undecided.into_inner().unwrap_or_default(),
         stop: None,
+        shard: split,
     }
 }

@@ -118,7 +118,7 @@ pub(super) fn run(
     info.patterns_enumerated = pieces.len() as u64;
     if pieces.is_empty() {
         info.mu_enumerated = None;
-        return Ok(super::bnb::run(ctx, info, progress, control));
+        return Ok(super::bnb::run(ctx, info, None, progress, control));
     }
     let mut found = Found {
         lower: f64::INFINITY,

@@ -48,6 +48,7 @@ pub mod certify;
 mod enumerate;
 mod faces;
 mod polish;
+mod shards;
 
 use std::fmt;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -63,6 +64,9 @@ use crate::conic::program::{
 use crate::patterns::Undecided;
 use crate::problem::Problem;
 use crate::run::{Control, EnumerateError, Fault, Limits, Stop};
+use crate::shard::{Shard, ShardReport};
+
+pub use shards::merge_shards;
 
 /// The most nodes [`CriticalMethod::Faces`] accepts.
 pub const CRITICAL_FACES_MAX_NODES: usize = 12;
@@ -124,6 +128,10 @@ pub struct CriticalSettings {
     /// failure reported as one (the CLI sets it from `WEDGED_INJECT_FAULT`). `None` in use.
     #[doc(hidden)]
     pub fault: Option<Fault>,
+    /// Run one shard of the `bnb` search only ([`crate::shard`]): the bracket of `mu*` over
+    /// its part of the tree; [`merge_shards`] gives the one-run bracket from all of them.
+    /// `None` (the default): the whole search.
+    pub shard: Option<Shard>,
 }
 
 impl Default for CriticalSettings {
@@ -134,6 +142,7 @@ impl Default for CriticalSettings {
             limits: Limits::default(),
             certify: false,
             fault: None,
+            shard: None,
         }
     }
 }
@@ -259,6 +268,8 @@ pub struct Critical {
     pub info: CriticalInfo,
     /// The exact checks, when [`CriticalSettings::certify`] asked for them.
     pub certificate: Option<certify::CriticalCertificate>,
+    /// How the search was split, for a run of one shard ([`CriticalSettings::shard`]).
+    pub shard: Option<ShardReport>,
 }
 
 /// Where a running search is.
@@ -300,6 +311,12 @@ pub fn critical_with_control(
             problem.nodes()
         )));
     }
+    if settings.shard.is_some() && settings.method != CriticalMethod::Bnb {
+        return Err(EnumerateError::InvalidSettings(format!(
+            "shards split the search tree of the bnb method; the {} method has none",
+            settings.method.name()
+        )));
+    }
     if problem.is_floating() && settings.certify {
         return Err(EnumerateError::InvalidSettings(
             "--certify is not yet available for a floating body (its exact checks rest on the \
@@ -331,7 +348,7 @@ pub fn critical_with_control(
         Found::default()
     } else {
         match settings.method {
-            CriticalMethod::Bnb => bnb::run(&ctx, &mut info, progress, &control),
+            CriticalMethod::Bnb => bnb::run(&ctx, &mut info, settings.shard, progress, &control),
             CriticalMethod::Faces => faces::run(&ctx, &mut info, progress, &control),
             CriticalMethod::Enumerate => {
                 enumerate::run(&ctx, &mut info, progress, settings.limits, cancel, &control)?
@@ -426,6 +443,7 @@ pub fn critical_with_control(
         undecided: found.undecided,
         info,
         certificate,
+        shard: found.shard,
     })
 }
 
@@ -440,6 +458,8 @@ pub(crate) struct Found {
     pub undecided: Vec<Undecided>,
     /// A reason the method stopped on its own (enumerate: the enumeration's).
     pub stop: Option<Stop>,
+    /// How a sharded search was split.
+    pub shard: Option<ShardReport>,
 }
 
 /// Counters of the threshold computations.

@@ -22,7 +22,7 @@ use super::{leaf_pattern, Found, PatternInfo, Undecided};
 use crate::conic::program::{Class, Decision, Entry, Formulation, Goal, Norm, POSITIVE};
 use crate::rays::Progress;
 use crate::run::Control;
-use crate::shard::{self, Shard, Walk};
+use crate::shard::{self, Explored, Shard, Walk};
 use crate::solution::ContactPattern;
 
 /// A witness's gap or reaction component at most this (with `sum r_n = 1`) counts as zero when
@@ -44,6 +44,7 @@ struct Search<'a, 'b> {
 /// A search node: the class of every node and, perhaps, a solution of its relaxation passed
 /// down from the parent, whose smallest pressure over the nodes in contact is positive: the
 /// node is then not pruned, which is always safe, and its program is not solved.
+#[derive(Clone)]
 struct Node {
     classes: Vec<Class>,
     inherited: Option<Vec<f64>>,
@@ -51,6 +52,10 @@ struct Node {
 
 impl shard::Tree for Search<'_, '_> {
     type Node = Node;
+
+    fn is_leaf(&self, node: &Node) -> bool {
+        node.classes.iter().all(|&c| c != Class::Free)
+    }
 
     fn root(&self) -> Node {
         Node {
@@ -198,10 +203,11 @@ pub(super) fn run(
         pruned_unpressed: AtomicU64::new(0),
         leaves: AtomicU64::new(0),
     };
-    let walk = Walk::new(&search);
+    let explored = Explored::new();
+    let walk = Walk::new(&search, &explored);
     let report = || {
         progress(Progress {
-            done: (walk.explored() * 1000.0).round() as usize,
+            done: (explored.fraction() * 1000.0).round() as usize,
             total: 1000,
             rays: search.found.lock().map_or(0, |f| f.len()),
         });

@@ -39,7 +39,7 @@ use crate::conic::node_lp::{self, Shape, Warm as Basis};
 use crate::conic::program::{Class, Decision, Norm, POSITIVE};
 use crate::rays::Progress;
 use crate::run::{with_progress, Control};
-use crate::shard::{self, Shard, ShardReport, Walk};
+use crate::shard::{self, Explored, Shard, ShardReport, Walk};
 
 /// A solution's gap or reaction component at most this (with `sum r_n = 1`, gaps scaled) counts
 /// as zero when deciding whether a child inherits it.
@@ -84,10 +84,11 @@ pub(crate) fn search(
     progress: &dyn Fn(Progress),
 ) -> Tree {
     let search = Search::new(lp, control);
-    let walk = Walk::new(&search);
+    let explored = Explored::new();
+    let walk = Walk::new(&search, &explored);
     let report = || {
         progress(Progress {
-            done: (walk.explored() * 1000.0).round() as usize,
+            done: (explored.fraction() * 1000.0).round() as usize,
             total: 1000,
             rays: search.leaves_found(),
         })
@@ -100,6 +101,7 @@ pub(crate) fn search(
 
 /// A search node: the class of every node, a solution of its program handed down by the
 /// parent (then nothing is solved), the parent's final basis and the cuts known so far.
+#[derive(Clone)]
 pub(crate) struct Node {
     classes: Vec<Class>,
     inherited: Option<Vec<f64>>,
@@ -158,6 +160,22 @@ impl<'a, 'f> Search<'a, 'f> {
 
 impl shard::Tree for Search<'_, '_> {
     type Node = Node;
+
+    /// The tightening nodes: two programs per free node each.
+    fn keep_depth(&self) -> usize {
+        self.tighten_depth
+    }
+
+    fn shelve(&self, node: Node) -> Node {
+        Node {
+            warm: node.warm.map(|w| Arc::new(w.shelved())),
+            ..node
+        }
+    }
+
+    fn is_leaf(&self, node: &Node) -> bool {
+        node.classes.iter().all(|&c| c != Class::Free)
+    }
 
     fn root(&self) -> Node {
         Node {
