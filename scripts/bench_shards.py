@@ -7,9 +7,9 @@ in the environment scripts/test makes (wedged and dask[distributed] installed), 
 The problem is the 2D plug of the scale issues (examples/plug2d.toml with nx = ny = n,
 triangles, mu = 2; m = 2n contact nodes), method pattern-search.
 
-- `--spread`: the command, one shard after another on one thread (RAYON_NUM_THREADS=1), each
-  shard's search nodes (all it visited; the split's walks over the top of the tree, which
-  every shard makes, given apart) and seconds, and the largest shard's share against 3/N.
+- `--spread`: the command, each shard on one thread (RAYON_NUM_THREADS=1; `--jobs` of them at
+  once), each shard's search nodes (all it visited; the split's walks over the top of the tree,
+  which every shard makes, given apart) and seconds, and the largest shard's share against 3/N.
 - `--dask`: `wedged.distributed.enumerate` with `--shards` tasks on a LocalCluster of 1 and
   then 2 worker processes, one thread each (RAYON_NUM_THREADS=1 in the workers), whole calls
   timed, and the merged answer compared with one run of the command (pieces, witnesses,
@@ -58,13 +58,18 @@ def run(args: list[str], threads: int | None = None) -> float:
     return time.perf_counter() - start
 
 
-def spread(problem: Path, shards: int, directory: Path) -> None:
-    rows = []
-    for i in range(1, shards + 1):
+def spread(problem: Path, shards: int, directory: Path, jobs: int) -> None:
+    from concurrent.futures import ThreadPoolExecutor
+
+    def one(i: int) -> float:
         part = directory / f"part-{i}.json"
-        seconds = run(
-            ["enumerate", str(problem), "--shard", f"{i}/{shards}", "--json", str(part)], 1
-        )
+        return run(["enumerate", str(problem), "--shard", f"{i}/{shards}", "--json", str(part)], 1)
+
+    with ThreadPoolExecutor(jobs) as pool:
+        times = list(pool.map(one, range(1, shards + 1)))
+    rows = []
+    for i, seconds in zip(range(1, shards + 1), times):
+        part = directory / f"part-{i}.json"
         doc = json.loads(part.read_text())
         s = doc["shard"]
         rows.append((i, doc["info"]["nodes_visited"], s["split_nodes"], s["own_units"], seconds))
@@ -100,7 +105,7 @@ def dask(problem: Path, shards: int, whole: dict) -> None:
             result = wedged.distributed.enumerate(str(problem), client=client, shards=shards)
             times[workers] = time.perf_counter() - start
         same = stable(json.loads(result.to_json())) == stable(whole)
-        print(f"| {workers} | {shards} | {times[workers]:.1f} | {same} |")
+        print(f"| {workers} | {shards} | {times[workers]:.1f} | {same} |", flush=True)
     print(f"\n2 workers against 1: {times[1] / times[2]:.2f}x")
 
 
@@ -110,22 +115,30 @@ def main() -> None:
     ap.add_argument("--shards", type=int, default=16)
     ap.add_argument("--spread", action="store_true")
     ap.add_argument("--dask", action="store_true")
+    ap.add_argument("--jobs", type=int, default=1, help="shards run at once by --spread")
+    ap.add_argument("--skip-whole", action="store_true", help="no one run (--spread only)")
     a = ap.parse_args()
     with tempfile.TemporaryDirectory() as d:
         directory = Path(d)
         problem = plug(directory, a.n)
-        whole_json = directory / "whole.json"
-        seconds = run(
-            ["enumerate", str(problem), "--method", "pattern-search", "--json", str(whole_json)]
-        )
-        whole = json.loads(whole_json.read_text())
-        print(
-            f"plug n = {a.n} (m = {2 * a.n}): one run of the command {seconds:.2f} s (2 threads), "
-            f"{len(whole['patterns'])} pieces, {whole['info']['nodes_visited']:,} search nodes"
-        )
+        whole = None
+        if not a.skip_whole:
+            whole_json = directory / "whole.json"
+            seconds = run(
+                ["enumerate", str(problem), "--method", "pattern-search", "--json", str(whole_json)]
+            )
+            whole = json.loads(whole_json.read_text())
+            print(
+                f"plug n = {a.n} (m = {2 * a.n}): one run of the command {seconds:.2f} s "
+                f"(2 threads), {len(whole['patterns'])} pieces, "
+                f"{whole['info']['nodes_visited']:,} search nodes",
+                flush=True,
+            )
         if a.spread:
-            spread(problem, a.shards, directory)
+            spread(problem, a.shards, directory, a.jobs)
         if a.dask:
+            if whole is None:
+                raise SystemExit("--dask compares with one run: drop --skip-whole")
             dask(problem, a.shards, whole)
 
 

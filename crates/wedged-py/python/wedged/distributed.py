@@ -15,7 +15,7 @@ Each task runs ``enumerate(..., shard=(i, n))`` (``wedged enumerate --shard i/n`
 and hands back its part's JSON; :func:`wedged.merge` combines them. Every worker computes the
 same split of the search without talking to the others (see the README, "Beyond one
 machine"), so Dask only schedules and moves a few kilobytes per task. More shards than
-workers (the default: 8 per worker) let Dask balance the load: a worker that finishes early
+workers (the default: 2 per worker) let Dask balance the load: a worker that finishes early
 takes the next shard. A task that fails raises its error here; nothing incomplete is returned
 as complete.
 
@@ -40,8 +40,9 @@ from . import merge as _merge
 
 __all__ = ["critical", "enumerate"]
 
-#: Shards per worker when ``shards`` is not given.
-SHARDS_PER_WORKER = 8
+#: Shards per worker when ``shards`` is not given: enough for Dask to even out the load, few
+#: because every shard solves the top of the tree again (BENCHMARKS.md, "Shards").
+SHARDS_PER_WORKER = 2
 
 
 def _part(spec: tuple, shard: str, options: dict) -> str:
