@@ -55,7 +55,7 @@ impl Choice {
             self.pyramid_faces(),
             zero_tol.to_bits()
         );
-        crate::report::json::fingerprint(problem, &text)
+        fingerprint(problem, &text)
     }
 }
 
@@ -167,6 +167,17 @@ impl Certified<'_> {
             Certified::Patterns(c) => &c.failures,
         }
     }
+}
+
+/// The fingerprint of a run on `problem` with the settings that `settings` spells out, as 16
+/// hex digits: the problem's ([`wedged::Problem::fingerprint`]) folded with the text (FNV-1a).
+pub fn fingerprint(problem: &wedged::Problem, settings: &str) -> String {
+    let mut h = problem.fingerprint();
+    for byte in settings.bytes() {
+        h ^= u64::from(byte);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{h:016x}")
 }
 
 #[cfg(test)]

@@ -44,7 +44,8 @@ use wedged::{
     Critical, CriticalInfo, CriticalSettings, CriticalStatus, NodeStatus, PatternThreshold, Problem,
 };
 
-use crate::report::json::{fingerprint, ModelJson, ShardJson, UndecidedJson};
+use crate::report::answer::fingerprint;
+use crate::report::json::{ModelJson, ShardJson, UndecidedJson};
 use crate::report::sig4;
 use crate::report::summary::{
     codes, pattern_code, plural, seconds_text, status_code, status_legend, wrapped, PATTERN_LEGEND,

@@ -129,17 +129,6 @@ impl ShardJson {
     }
 }
 
-/// The fingerprint of a run on `problem` with the settings that `settings` spells out, as 16
-/// hex digits: the problem's ([`wedged::Problem::fingerprint`]) folded with the text (FNV-1a).
-pub fn fingerprint(problem: &Problem, settings: &str) -> String {
-    let mut h = problem.fingerprint();
-    for byte in settings.bytes() {
-        h ^= u64::from(byte);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    format!("{h:016x}")
-}
-
 /// The finite-element model of a `[mesh]` problem.
 #[derive(Debug, Serialize)]
 pub struct ModelJson {
