@@ -149,16 +149,6 @@ pub fn merge(parts: &[Part]) -> Result<Merged, String> {
     } else {
         "wedged"
     };
-    let all = |key: &str| -> Value {
-        let values: Vec<&Value> = read.iter().map(|r| &r.doc[key]).collect();
-        if values.iter().any(|v| **v == Value::Bool(false)) {
-            Value::Bool(false)
-        } else if values.iter().all(|v| **v == Value::Bool(true)) && missing.is_empty() {
-            Value::Bool(true)
-        } else {
-            Value::Null
-        }
-    };
 
     let mut doc = first.doc.clone();
     doc.insert("outcome".into(), outcome.into());
@@ -171,8 +161,11 @@ pub fn merge(parts: &[Part]) -> Result<Merged, String> {
             stopped.join("; ").into()
         },
     );
-    doc.insert("certified".into(), all("certified"));
-    doc.insert("certified_complete".into(), all("certified_complete"));
+    doc.insert("certified".into(), all_true(&read, "certified", &missing));
+    doc.insert(
+        "certified_complete".into(),
+        all_true(&read, "certified_complete", &missing),
+    );
     let n_pieces = pieces.len();
     doc.insert(
         "patterns".into(),
@@ -289,17 +282,7 @@ fn merge_critical(read: &[Read], missing: &[usize]) -> Result<Merged, String> {
         map.insert("tol_achieved".into(), tol_achieved);
     }
     doc.insert("info".into(), info);
-    let certified: Vec<&Value> = read.iter().map(|r| &r.doc["certified"]).collect();
-    doc.insert(
-        "certified".into(),
-        if certified.iter().any(|v| **v == Value::Bool(false)) {
-            Value::Bool(false)
-        } else if certified.iter().all(|v| **v == Value::Bool(true)) && missing.is_empty() {
-            Value::Bool(true)
-        } else {
-            Value::Null
-        },
-    );
+    doc.insert("certified".into(), all_true(read, "certified", missing));
     let certificates: Option<Vec<&Map<String, Value>>> = read
         .iter()
         .map(|r| r.doc["certificate"].as_object())
@@ -354,6 +337,19 @@ fn merge_critical(read: &[Read], missing: &[usize]) -> Result<Merged, String> {
         complete,
         summary,
     })
+}
+
+/// A `--certify` verdict of the merge: `false` when a part's `key` is false, `true` when every
+/// part's is true and no shard is missing, else `null` (not asked, or not all there).
+fn all_true(read: &[Read], key: &str, missing: &[usize]) -> Value {
+    let values: Vec<&Value> = read.iter().map(|r| &r.doc[key]).collect();
+    if values.iter().any(|v| **v == Value::Bool(false)) {
+        Value::Bool(false)
+    } else if values.iter().all(|v| **v == Value::Bool(true)) && missing.is_empty() {
+        Value::Bool(true)
+    } else {
+        Value::Null
+    }
 }
 
 fn read(part: &Part) -> Result<Read, String> {

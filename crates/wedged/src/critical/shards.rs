@@ -14,27 +14,13 @@
 //! wedges. A shard that stopped early (a limit, undecided sets) leaves the merge incomplete.
 
 use super::{Critical, CriticalInfo, CriticalStatus};
-use crate::patterns::{check_shards, missing_text};
+use crate::patterns::every_shard;
 
 /// The one-run result from the results of the shards `1..N` of one `critical` run (each with
 /// [`super::CriticalSettings::shard`]); an error when a part is not a shard, or the shards are
 /// not `1..N` once each. The counters are the shards' sums, the seconds the longest shard's.
 pub fn merge_shards(parts: Vec<Critical>) -> Result<Critical, String> {
-    let shards = parts
-        .iter()
-        .map(|p| {
-            p.shard
-                .map(|s| (s.index, s.count))
-                .ok_or_else(|| "a part is a whole run, not a shard".to_string())
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let missing = check_shards(&shards)?;
-    if !missing.is_empty() {
-        return Err(format!(
-            "{}: the merge of the others is not the whole answer",
-            missing_text(&missing, shards[0].1)
-        ));
-    }
+    every_shard(parts.iter().map(|p| p.shard))?;
     let stop = parts.iter().find_map(|p| match p.status {
         CriticalStatus::Incomplete(s) => Some(s),
         _ => None,

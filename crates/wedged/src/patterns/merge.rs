@@ -56,6 +56,29 @@ pub fn check_shards(shards: &[(usize, usize)]) -> Result<Vec<usize>, String> {
     Ok((1..=count).filter(|&i| seen[i - 1] == 0).collect())
 }
 
+/// Checks that the parts whose shard reports are `shards` are the shards `1..N` of one split,
+/// each once: the error names a part that is a whole run, and the missing or repeated shards.
+/// (The library's merges need every shard; `wedged merge` also merges what is there.)
+pub(crate) fn every_shard(
+    shards: impl Iterator<Item = Option<crate::shard::ShardReport>>,
+) -> Result<(), String> {
+    let shards = shards
+        .map(|s| {
+            s.map(|s| (s.index, s.count))
+                .ok_or_else(|| "a part is a whole run, not a shard".to_string())
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let missing = check_shards(&shards)?;
+    if missing.is_empty() {
+        Ok(())
+    } else {
+        Err(format!(
+            "{}: the merge of the others is not the whole answer",
+            missing_text(&missing, shards[0].1)
+        ))
+    }
+}
+
 /// `"shard 3 of 16 missing"`, `"shards 3, 7 of 16 missing"`.
 pub fn missing_text(missing: &[usize], count: usize) -> String {
     let list: Vec<String> = missing.iter().map(|i| i.to_string()).collect();
@@ -68,21 +91,7 @@ pub fn missing_text(missing: &[usize], count: usize) -> String {
 /// not `1..N` once each. The counters are the shards' sums (the top of the tree, which every
 /// shard solves, counted once per shard), the seconds the longest shard's.
 pub fn merge_shards(parts: Vec<Patterns>) -> Result<Patterns, String> {
-    let shards = parts
-        .iter()
-        .map(|p| {
-            p.shard
-                .map(|s| (s.index, s.count))
-                .ok_or_else(|| "a part is a whole run, not a shard".to_string())
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let missing = check_shards(&shards)?;
-    if !missing.is_empty() {
-        return Err(format!(
-            "{}: the merge of the others is not the whole answer",
-            missing_text(&missing, shards[0].1)
-        ));
-    }
+    every_shard(parts.iter().map(|p| p.shard))?;
     let mut stopped = None;
     let mut info = PatternInfo::default();
     let mut certificate: Option<PatternCertificate> = None;

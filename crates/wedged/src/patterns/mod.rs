@@ -39,6 +39,7 @@ use crate::conic::program::{
     self, describe, leaf_classes, Class, Counters, Entry, Formulation, Norm, POSITIVE,
 };
 pub use certify::PatternCertificate;
+pub(crate) use merge::every_shard;
 pub use merge::{check_shards, keep_maximal, merge_shards, missing_text};
 
 use crate::run::{check_zero_tol, Control, EnumerateError, Limits, Outcome, Stop};
