@@ -391,20 +391,12 @@ impl Problem {
     /// of different problems apart. Equal problems built alike have equal fingerprints; it is
     /// not a cryptographic hash.
     pub fn fingerprint(&self) -> u64 {
-        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-        let mut eat = |word: u64| {
-            for byte in word.to_le_bytes() {
-                h ^= u64::from(byte);
-                h = h.wrapping_mul(0x0000_0100_0000_01b3);
-            }
-        };
-        eat(self.dim as u64);
-        eat(self.k.nrows() as u64);
-        eat(self.mu.to_bits());
-        self.k.iter().for_each(|x| eat(x.to_bits()));
-        eat(self.rigid.ncols() as u64);
-        self.rigid.iter().for_each(|x| eat(x.to_bits()));
-        h
+        let words = [self.dim as u64, self.k.nrows() as u64, self.mu.to_bits()]
+            .into_iter()
+            .chain(self.k.iter().map(|x| x.to_bits()))
+            .chain(std::iter::once(self.rigid.ncols() as u64))
+            .chain(self.rigid.iter().map(|x| x.to_bits()));
+        digest_of(words)
     }
 
     /// The (symmetrised) stiffness `K`, `dim*m` square.
@@ -595,6 +587,23 @@ fn inverse_from_cholesky(l: &DMatrix<f64>) -> DMatrix<f64> {
     }
     let g = linv.transpose() * &linv;
     (&g + g.transpose()) * 0.5
+}
+
+/// The 64-bit FNV-1a digest of `words` (little-endian bytes): [`Problem::fingerprint`], and the
+/// keys under which a process keeps a search's split (`shard`).
+pub(crate) fn digest(words: &[u64]) -> u64 {
+    digest_of(words.iter().copied())
+}
+
+fn digest_of(words: impl Iterator<Item = u64>) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for word in words {
+        for byte in word.to_le_bytes() {
+            h ^= u64::from(byte);
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    h
 }
 
 #[cfg(test)]

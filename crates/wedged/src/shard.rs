@@ -20,9 +20,17 @@
 //! union of their answers is the one-run answer: a piece found in one shard may be contained
 //! in another shard's piece, and the merge removes it (as the one run's maximal filter would).
 //!
+//! **One split per process.** A process that runs several shards of the same tree one after
+//! the other (a Dask worker, which runs task after task in one process) walks the top once:
+//! the last split is kept ([`Tree::split_key`] names what it depends on) and the next shard of
+//! the same tree starts from its units. A split is kept only when its walks raised no alarm
+//! ([`Tree::alarms`]: an undecided program, a doubt, a stop), so a reused split reports the
+//! same as one walked again.
+//!
 //! Without a shard (or with `1/1`) the search is the plain depth-first one, the two children of
 //! a node in parallel (`rayon::join`).
 
+use std::any::{Any, TypeId};
 use std::collections::HashMap;
 
 use rayon::prelude::*;
@@ -128,7 +136,22 @@ pub struct ShardReport {
 /// A binary search tree whose nodes are decided one at a time.
 pub(crate) trait Tree: Sync {
     /// A node (cloned when a split walks the top of the tree more than once).
-    type Node: Send + Sync + Clone;
+    type Node: Send + Sync + Clone + 'static;
+
+    /// A digest of everything the decisions of the top depend on (the program's data, the
+    /// tree's settings), when a split may be kept for the next shard of the same tree in this
+    /// process; `None` (the default) walks the top for every shard. A tree that keeps exact
+    /// records of its decisions (`--certify`) or whose decisions depend on what other nodes
+    /// found (an incumbent) must answer `None`.
+    fn split_key(&self) -> Option<u64> {
+        None
+    }
+
+    /// A count of what a run must report and a reused split would not (undecided programs,
+    /// doubts, a stop): a split during whose walks it grew is not kept.
+    fn alarms(&self) -> u64 {
+        0
+    }
 
     /// Nodes above this depth are decided once per run even when the split walks them again
     /// (their children kept): the ones whose decision is dear (the 2D search's tightening
@@ -269,7 +292,7 @@ impl<'t, T: Tree> Walk<'t, T> {
             units,
             ends,
             leaves,
-        } = self.split(shard.count);
+        } = self.split_once(shard.count);
         report.split_nodes = self.split_nodes.load(Ordering::Relaxed);
         report.split_depth = depth;
         report.units = units.len();
@@ -312,6 +335,30 @@ impl<'t, T: Tree> Walk<'t, T> {
                 rayon::join(|| self.dive(a, depth + 1), || self.dive(b, depth + 1));
             }
         }
+    }
+
+    /// [`Walk::split`], or the split this process kept from an earlier shard of the same tree
+    /// (see the module docs).
+    fn split_once(&self, count: usize) -> Top<T::Node> {
+        let Some(key) = self.tree.split_key() else {
+            return self.split(count);
+        };
+        let key = (TypeId::of::<Top<T::Node>>(), key, count);
+        let kept = LAST_SPLIT.lock().ok().and_then(|last| {
+            let (k, top) = last.as_ref()?;
+            (*k == key).then(|| top.downcast_ref::<Top<T::Node>>().cloned())?
+        });
+        if let Some(top) = kept {
+            return top;
+        }
+        let alarms = self.tree.alarms();
+        let top = self.split(count);
+        if self.tree.alarms() == alarms {
+            if let Ok(mut last) = LAST_SPLIT.lock() {
+                *last = Some((key, Box::new(top.clone())));
+            }
+        }
+        top
     }
 
     /// The split depth for `count` shards and the units there, in depth-first order,
@@ -385,8 +432,15 @@ impl<'t, T: Tree> Walk<'t, T> {
     }
 }
 
+/// The last split this process made that may be reused: the node type, the tree's
+/// [`Tree::split_key`] and the number of shards, and the [`Top`]. (One split: a process runs
+/// the shards of one tree at a time; the units hold no basis inverse, a few MiB at m = 80.)
+type LastSplit = Option<((TypeId, u64, usize), Box<dyn Any + Send>)>;
+static LAST_SPLIT: Mutex<LastSplit> = Mutex::new(None);
+
 /// The top of a tree above a split depth: the open nodes at the depth (the units), the depths
 /// of the nodes above it whose subtrees end, and the leaves among those, with their depths.
+#[derive(Clone)]
 struct Top<N> {
     depth: usize,
     units: Vec<N>,

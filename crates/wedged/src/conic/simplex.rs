@@ -43,6 +43,7 @@
 //!   `Failed` with the reason, and the caller asks Clarabel.
 
 mod check;
+mod pool;
 
 use check::{check_certificate, check_point};
 
@@ -130,19 +131,38 @@ enum At {
 }
 
 /// A basis: which variable is basic in each row position, where the others sit, and the
-/// inverse of the basis matrix (dropped with [`Basis::forget`] when the matrix changes).
-#[derive(Debug, Clone)]
+/// inverse of the basis matrix (dropped with [`Basis::forget`] when the matrix changes). The
+/// inverse's buffer is recycled ([`pool`]).
+#[derive(Debug)]
 pub(crate) struct Basis {
     head: Vec<usize>,
     at: Vec<At>,
     inv: Option<Vec<f64>>,
 }
 
+impl Clone for Basis {
+    fn clone(&self) -> Basis {
+        Basis {
+            head: self.head.clone(),
+            at: self.at.clone(),
+            inv: self.inv.as_deref().map(pool::copy_of),
+        }
+    }
+}
+
+impl Drop for Basis {
+    fn drop(&mut self) {
+        if let Some(inv) = self.inv.take() {
+            pool::recycle(inv);
+        }
+    }
+}
+
 impl Basis {
     /// The slack basis of `lp`: every row activity basic.
     fn slack(lp: &Lp) -> Basis {
         let r = lp.rows;
-        let mut inv = vec![0.0; r * r];
+        let mut inv = pool::zeroed(r * r);
         for k in 0..r {
             inv[k * r + k] = -1.0;
         }
@@ -160,7 +180,9 @@ impl Basis {
     /// Drops the inverse: the program's matrix has changed since (it is refactored from the
     /// basic columns on the next solve).
     pub(crate) fn forget(&mut self) {
-        self.inv = None;
+        if let Some(inv) = self.inv.take() {
+            pool::recycle(inv);
+        }
     }
 
     /// The same basis without its inverse (refactored on the next solve): small to keep.
@@ -238,7 +260,7 @@ fn invert(lp: &Lp, head: &[usize]) -> Option<Vec<f64>> {
     let r = lp.rows;
     // [B | I], row-major, 2r wide.
     let w = 2 * r;
-    let mut m = vec![0.0; r * w];
+    let mut m = pool::zeroed(r * w);
     for (c, &j) in head.iter().enumerate() {
         for k in 0..r {
             m[k * w + c] = lp.entry(k, j);
@@ -273,10 +295,11 @@ fn invert(lp: &Lp, head: &[usize]) -> Option<Vec<f64>> {
             }
         }
     }
-    let mut inv = vec![0.0; r * r];
+    let mut inv = pool::zeroed(r * r);
     for k in 0..r {
         inv[k * r..(k + 1) * r].copy_from_slice(&m[k * w + r..(k + 1) * w]);
     }
+    pool::recycle(m);
     Some(inv)
 }
 
