@@ -155,12 +155,12 @@ pub fn plan_enumerate(
     let method = match options.method {
         Some(m) => m,
         None if options.exact => MethodArg::Rays(Method::Exact),
-        // Shards split a search tree: the contact-set search of the pieces in 2D.
-        None if options.shard.is_some() && problem.dim() == 2 && !problem.is_floating() => {
+        // Shards split a search tree, and a floating body's pieces are sign patterns (the ray
+        // methods are for clamped bodies): the contact-set search of the pieces in 2D.
+        None if problem.dim() == 2 && (options.shard.is_some() || problem.is_floating()) => {
             MethodArg::Patterns(PatternMethod::Search)
         }
-        // A floating body's pieces are sign patterns: the ray methods are for clamped bodies.
-        None if problem.dim() == 2 && !problem.is_floating() => MethodArg::Rays(Method::PrunedDd),
+        None if problem.dim() == 2 => MethodArg::Rays(Method::PrunedDd),
         None => MethodArg::Patterns(PatternMethod::Bnb),
     };
     if problem.is_floating() {

@@ -98,6 +98,7 @@ fn merged_shards_write_the_json_of_one_run() {
     round_trip(&example("plug2d.toml"), "bnb", &[2]);
     round_trip(&example("plug3d.toml"), "bnb", &[4]);
     round_trip(&example("cork2d.toml"), "bnb", &[3]);
+    round_trip(&example("cork2d.toml"), "pattern-search", &[4]);
 }
 
 #[test]

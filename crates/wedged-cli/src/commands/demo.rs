@@ -34,9 +34,13 @@ pub(crate) fn run_demo(args: DemoArgs) -> Result<(), Failure> {
              `wedged enumerate FILE.toml` for your own problem."
         )
     };
-    // A floating body's pieces are sign patterns (the ray methods are for clamped bodies).
+    // A floating body's pieces are sign patterns (the ray methods are for clamped bodies),
+    // found by the 2D contact-set search.
     let choice = if problem.is_floating() {
-        Choice::Patterns(wedged::PatternSettings::default())
+        Choice::Patterns(wedged::PatternSettings {
+            method: wedged::PatternMethod::Search,
+            ..wedged::PatternSettings::default()
+        })
     } else {
         Choice::Rays(Settings::default())
     };

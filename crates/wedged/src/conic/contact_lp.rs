@@ -63,35 +63,54 @@ impl<'f> ContactLp<'f> {
             }
         }
         let q = entries.len();
-        let n = n0 + q;
-        // Rows: the m gaps, one per entry (`e - t_e`), and the total pressure.
-        let rows = m + q + 1;
+        // Columns: the friction edges, a floating body's free amplitudes, then the `t_e`.
+        let n1 = n0 + form.amplitudes();
+        let n = n1 + q;
+        // Rows: the m gaps, one per entry (`e - t_e`), the total pressure, and a floating
+        // body's balance `R^T r = 0`.
+        let balance = form.balance_rows();
+        let rows = m + q + 1 + balance.len();
         let mut lp = Lp::new(n, rows);
-        for i in 0..m {
-            for (j, w) in form.gap_row(i).chunks(2).enumerate() {
-                lp.a[i * n + 2 * j] = w[0] + mu * w[1];
-                lp.a[i * n + 2 * j + 1] = w[0] - mu * w[1];
+        // A row over the reactions (then the amplitudes) on the edge (and amplitude) columns.
+        let set_row = |lp: &mut Lp, k: usize, row: &[f64]| {
+            for (j, w) in row[..n0].chunks(2).enumerate() {
+                lp.a[k * n + 2 * j] = w[0] + mu * w[1];
+                lp.a[k * n + 2 * j + 1] = w[0] - mu * w[1];
             }
+            for (j, &x) in row.get(n0..).unwrap_or(&[]).iter().enumerate() {
+                if let Some(c) = form.amplitude_of(j) {
+                    lp.a[k * n + n0 + c] = x;
+                }
+            }
+        };
+        for i in 0..m {
+            set_row(&mut lp, i, form.gap_row(i));
         }
         for (k, e) in entries.iter().enumerate() {
             let row = m + k;
             match *e {
                 Entry2::Edge(col) => lp.a[row * n + col] = 1.0,
                 Entry2::Gap(i) => {
-                    for c in 0..n0 {
+                    for c in 0..n1 {
                         lp.a[row * n + c] = lp.a[i * n + c];
                     }
                 }
             }
-            lp.a[row * n + n0 + k] = -1.0;
-            (lp.lo[n0 + k], lp.hi[n0 + k]) = (0.0, 1.0);
-            lp.cost[n0 + k] = -1.0;
+            lp.a[row * n + n1 + k] = -1.0;
+            (lp.lo[n1 + k], lp.hi[n1 + k]) = (0.0, 1.0);
+            lp.cost[n1 + k] = -1.0;
             (lp.lo[n + row], lp.hi[n + row]) = (0.0, f64::INFINITY);
         }
+        let total = m + q;
         for c in 0..n0 {
-            lp.a[(rows - 1) * n + c] = 1.0;
+            lp.a[total * n + c] = 1.0;
         }
-        (lp.lo[n + rows - 1], lp.hi[n + rows - 1]) = (0.0, SUPPORT_SCALE);
+        (lp.lo[n + total], lp.hi[n + total]) = (0.0, SUPPORT_SCALE);
+        for (j, row) in balance.iter().enumerate() {
+            let k = total + 1 + j;
+            set_row(&mut lp, k, row);
+            (lp.lo[n + k], lp.hi[n + k]) = (0.0, 0.0);
+        }
         for (i, &c) in classes.iter().enumerate() {
             let hi = if c.has_r() { f64::INFINITY } else { 0.0 };
             for col in [2 * i, 2 * i + 1] {
@@ -120,7 +139,7 @@ impl<'f> ContactLp<'f> {
         let positive: Vec<Entry2> = entries
             .iter()
             .enumerate()
-            .filter(|&(k, _)| x[n0 + k] > 0.5)
+            .filter(|&(k, _)| x[n1 + k] > 0.5)
             .map(|(_, e)| *e)
             .collect();
         if positive.is_empty() {
@@ -142,12 +161,12 @@ impl ContactLp<'_> {
         why: &str,
     ) -> Result<Option<LeafSupport>, String> {
         let form = self.form;
-        let (m, mu) = (form.m, form.mu);
+        let mu = form.mu;
         let mut positive = Vec::new();
         for &e in entries {
             // Minimise minus the entry, a linear function of the reactions:
             // a_i = (r_n + r_t / mu) / 2, b_i = (r_n - r_t / mu) / 2.
-            let mut c = vec![0.0; 2 * m];
+            let mut c = vec![0.0; form.width()];
             match e {
                 Entry2::Edge(col) => {
                     let i = col / 2;

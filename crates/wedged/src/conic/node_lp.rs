@@ -8,10 +8,15 @@
 //! - two columns per node, `a_i, b_i >= 0`, the friction cone's edges: `r_n_i = a_i + b_i`,
 //!   `r_t_i = mu (a_i - b_i)` (at `mu = infinity`: `r_n_i = a_i`, `r_t_i = b_i` free), so the
 //!   friction law is a pair of bounds; a node without a reaction has both fixed at zero;
+//! - for a floating body, one free column per rigid amplitude that moves some contact node
+//!   normally ([`Formulation::amplitude_of`]): `u = G r + R a`;
 //! - rows, each a row activity with bounds: the scaled gaps `u_n_i` (`= 0` in contact, `>= 0`
 //!   otherwise), the pressures `r_n_i` (`>= 1` on the nodes of [`Norm::Pressed`], free
-//!   otherwise), the total `sum r_n` (`= 1` for [`Norm::Sum`], free otherwise), and one drive
-//!   cut per node ([`cuts::row`]; free where the node is not undecided or has none).
+//!   otherwise), the total `sum r_n` (`= 1` for [`Norm::Sum`], free otherwise), one drive
+//!   cut per node ([`cuts::row`]; free where the node is not undecided or has none), and for a
+//!   floating body the balance `R^T r = 0` ([`Formulation::balance_rows`]). A point is the
+//!   reactions, then the `k` amplitudes (`0` for a mode without a column), as
+//!   [`Formulation`]'s programs give.
 //!
 //! The matrix depends on `mu` and on the drive bounds only; a [`Warm`] basis made for other
 //! ones keeps its basic set but forgets its inverse.
@@ -103,25 +108,40 @@ fn program(
     objective: Option<&[f64]>,
 ) -> Lp {
     let m = form.m;
-    let n = 2 * m;
-    let rows = 3 * m + 1;
+    let reactions = 2 * m;
+    let n = reactions + form.amplitudes();
+    let modes = form.modes;
+    let rows = 3 * m + 1 + modes;
     let mu = shape.mu;
     let mut lp = Lp::new(n, rows);
+    // A row over the reactions (and, for a floating body, the `k` amplitudes after them).
     let set_row = |lp: &mut Lp, k: usize, row: &[f64]| {
-        for (i, (a, b)) in on_columns(row, mu).enumerate() {
+        for (i, (a, b)) in on_columns(&row[..reactions], mu).enumerate() {
             lp.a[k * n + 2 * i] = a;
             lp.a[k * n + 2 * i + 1] = b;
         }
+        for (j, &x) in row.get(reactions..).unwrap_or(&[]).iter().enumerate() {
+            if let Some(c) = form.amplitude_of(j) {
+                lp.a[k * n + reactions + c] = x;
+            }
+        }
     };
-    let mut unit = vec![0.0; n];
+    let mut unit = vec![0.0; reactions];
     for i in 0..m {
         set_row(&mut lp, i, form.gap_row(i));
         unit.iter_mut().for_each(|x| *x = 0.0);
         unit[2 * i] = 1.0;
         set_row(&mut lp, m + i, &unit);
     }
-    let all: Vec<f64> = (0..n).map(|c| if c % 2 == 0 { 1.0 } else { 0.0 }).collect();
+    let all: Vec<f64> = (0..reactions)
+        .map(|c| if c % 2 == 0 { 1.0 } else { 0.0 })
+        .collect();
     set_row(&mut lp, 2 * m, &all);
+    for (j, row) in form.balance_rows().iter().enumerate() {
+        let k = 3 * m + 1 + j;
+        set_row(&mut lp, k, row);
+        (lp.lo[n + k], lp.hi[n + k]) = (0.0, 0.0);
+    }
     if let Some(drive) = shape.drive {
         for (j, &(lo, hi)) in drive.iter().enumerate() {
             if let Some(row) = cuts::row(form, j, lo, hi) {
@@ -165,12 +185,26 @@ fn program(
         Norm::Gap(_) => unreachable!("the search normalises by the sum or by pressed nodes"),
     }
     if let Some(objective) = objective {
-        for (i, (a, b)) in on_columns(objective, mu).enumerate() {
+        for (i, (a, b)) in on_columns(&objective[..reactions], mu).enumerate() {
             lp.cost[2 * i] = a;
             lp.cost[2 * i + 1] = b;
         }
+        for (j, &x) in objective.get(reactions..).unwrap_or(&[]).iter().enumerate() {
+            if let Some(c) = form.amplitude_of(j) {
+                lp.cost[reactions + c] = x;
+            }
+        }
     }
     lp
+}
+
+/// The point of the columns `x` at `mu`: the reactions (`2m`), then for a floating body the
+/// `k` rigid amplitudes.
+fn point(form: &Formulation, x: &[f64], mu: f64) -> Vec<f64> {
+    let m = form.m;
+    let mut r = reactions(x, m, mu);
+    r.extend((0..form.modes).map(|j| form.amplitude_of(j).map_or(0.0, |c| x[2 * m + c])));
+    r
 }
 
 /// The reactions (`2m`) of the columns `x`, at `mu`.
@@ -225,9 +259,9 @@ pub(crate) fn decide(
     match answer {
         Answer::Optimal { x, value } => {
             counters.solves.fetch_add(1, Ordering::Relaxed);
-            let mut r = reactions(&x, form.m, shape.mu);
+            let mut r = point(form, &x, shape.mu);
             if !matches!(norm, Norm::Sum) {
-                let total: f64 = r.iter().step_by(2).sum();
+                let total: f64 = r[..2 * form.m].iter().step_by(2).sum();
                 r.iter_mut().for_each(|x| *x /= total);
             }
             (Decision::Yes { r, value }, Some(warm))

@@ -364,6 +364,37 @@ impl<'a> Formulation<'a> {
         &self.gap[i]
     }
 
+    /// The length of a gap row ([`Formulation::gap_row`]) and of a program's point: the
+    /// `dim*m` reactions, then for a floating body the `k` rigid amplitudes.
+    pub(crate) fn width(&self) -> usize {
+        self.dim * self.m + self.modes
+    }
+
+    /// The variable (among the amplitudes that are unknowns of the programs) of rigid mode
+    /// `j`'s amplitude: `None` for a mode that moves no contact node normally.
+    pub(crate) fn amplitude_of(&self, j: usize) -> Option<usize> {
+        self.amplitude[j]
+    }
+
+    /// The rows of `R^T r = 0` (no work on a rigid motion) over the `dim*m` reactions, each
+    /// mode's scaled to entries at most 1: the linear programs' balance rows (none when
+    /// clamped). The modes are independent, so are the rows; on the nodes a program lets press
+    /// they may not be, which a bounded simplex method does not mind.
+    pub(crate) fn balance_rows(&self) -> Vec<Vec<f64>> {
+        let rigid = self.problem.rigid_modes();
+        (0..self.modes)
+            .map(|j| {
+                let big = rigid.column(j).amax();
+                rigid.column(j).iter().map(|x| x / big).collect()
+            })
+            .collect()
+    }
+
+    /// How many amplitudes are unknowns of the programs.
+    pub(crate) fn amplitudes(&self) -> usize {
+        self.amplitude.iter().flatten().count()
+    }
+
     /// The scale of node `i`'s gap row ([`Formulation::gap_row`]).
     pub(crate) fn scale_of(&self, i: usize) -> f64 {
         self.scale[i]

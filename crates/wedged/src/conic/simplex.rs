@@ -82,7 +82,7 @@ impl Lp {
         Lp {
             n,
             rows,
-            a: vec![0.0; n * rows],
+            a: pool::zeroed(n * rows),
             lo: vec![f64::NEG_INFINITY; total],
             hi: vec![f64::INFINITY; total],
             cost: vec![0.0; total],
@@ -92,7 +92,15 @@ impl Lp {
     fn total(&self) -> usize {
         self.n + self.rows
     }
+}
 
+impl Drop for Lp {
+    fn drop(&mut self) {
+        pool::recycle(std::mem::take(&mut self.a));
+    }
+}
+
+impl Lp {
     /// Entry `k` of column `j` of `[A  -I]`.
     fn entry(&self, k: usize, j: usize) -> f64 {
         if j < self.n {

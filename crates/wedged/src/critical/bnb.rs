@@ -82,7 +82,12 @@ struct Search<'a, 'b, 'c> {
     visited: AtomicU64,
     pruned: AtomicU64,
     leaves: AtomicU64,
-    /// Whether the search uses drive cuts (not in a certified run).
+    /// Whether the nodes' programs are the warm-started linear programs of `conic::node_lp`
+    /// (2D, not in a certified run); otherwise Clarabel's.
+    simplex: bool,
+    /// Whether the search uses drive cuts (with `simplex`, not for a floating body: the cuts
+    /// bound a node's gap over the reactions alone, and a floating body's gap also follows its
+    /// rigid amplitudes).
     cut: bool,
     tightened: AtomicU64,
     /// The simplex method's counts (the programs of a search with drive cuts).
@@ -244,14 +249,14 @@ impl shard::Tree for Search<'_, '_, '_> {
                 }
             }
         }
-        let mut decision = if self.cut {
+        let mut decision = if self.simplex {
             // Towards a vertex: the least total of the undecided nodes' gaps and pressures.
             // (An interior-point solver returns a central point, at which many nodes break
             // complementarity a little, and the branching rule picks worse: on the 2D plug
             // with m = 40 and Clarabel, 2.9k nodes and 17 s with this objective, 5.6k and 20 s
             // without.)
             let d = self.form().dim;
-            let mut objective = vec![0.0; d * self.form().m];
+            let mut objective = vec![0.0; self.form().width()];
             for &j in &free {
                 for (a, g) in objective.iter_mut().zip(self.form().gap_row(j)) {
                     *a += g;
@@ -415,8 +420,7 @@ pub(super) fn run(
         visited: AtomicU64::new(0),
         pruned: AtomicU64::new(0),
         leaves: AtomicU64::new(0),
-        // A floating body's programs carry its rigid amplitudes, which the linear programs of
-        // node_lp and the drive cuts are not written for: Clarabel decides them all.
+        simplex: ctx.form.refutations.is_none() && ctx.form.dim == 2,
         cut: ctx.form.refutations.is_none() && ctx.form.dim == 2 && ctx.form.modes == 0,
         tightened: AtomicU64::new(0),
         lp: LpCounters::default(),

@@ -365,15 +365,15 @@ pub fn enumerate_patterns_with_control(
 }
 
 /// Why a floating body is refused by a pattern method, or with `--certify`: `None` when the
-/// combination applies. (`bnb` and `pattern-faces` carry the rigid amplitudes in every program;
-/// `pattern-search` runs on linear programs, and `pyramid` on a double description, that are
-/// written for a clamped body; the exact checks of `--certify` rest on the exact compliance
-/// `K^-1`, which a floating body does not have.)
+/// combination applies. (`bnb`, `pattern-faces` and `pattern-search` carry the rigid amplitudes
+/// in every program; `pyramid` runs on a double description written for a clamped body; the
+/// exact checks of `--certify` rest on the exact compliance `K^-1`, which a floating body does
+/// not have.)
 pub fn floating_refusal(method: PatternMethod, certify: bool) -> Option<String> {
     match method {
-        PatternMethod::Search | PatternMethod::Pyramid { .. } => Some(format!(
-            "--method {} is written for a clamped body; this body floats: use --method bnb or \
-             pattern-faces",
+        PatternMethod::Pyramid { .. } => Some(format!(
+            "--method {} is written for a clamped body; this body floats: use --method \
+             pattern-search (2D), bnb or pattern-faces",
             method.name()
         )),
         _ if certify => Some(

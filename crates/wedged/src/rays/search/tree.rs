@@ -135,7 +135,13 @@ impl<'a, 'f> Search<'a, 'f> {
             nodes: AtomicU64::new(0),
             inherited: AtomicU64::new(0),
             pruned: AtomicU64::new(0),
-            tighten_depth: tighten_depth(m),
+            // A floating body's gaps also follow its rigid amplitudes, which the drive cuts do
+            // not bound: no cuts (`critical`'s bnb does the same).
+            tighten_depth: if lp.form().modes > 0 {
+                0
+            } else {
+                tighten_depth(m)
+            },
             tightened: AtomicU64::new(0),
         }
     }
@@ -277,7 +283,7 @@ impl shard::Tree for Search<'_, '_> {
                 // Towards a vertex: the least total of the free nodes' gaps and pressures (a
                 // point at which few free nodes break complementarity, so the branching rule
                 // picks well, as in `critical`'s `bnb`).
-                let mut objective = vec![0.0; 2 * m];
+                let mut objective = vec![0.0; form.width()];
                 for &j in &free {
                     for (a, g) in objective.iter_mut().zip(form.gap_row(j)) {
                         *a += g;
