@@ -218,7 +218,8 @@ pub(crate) struct EnumerateArgs {
     /// Friction coefficient, overriding the file's `mu`.
     #[arg(long, value_name = "MU", allow_negative_numbers = true)]
     pub(crate) mu: Option<f64>,
-    /// Algorithm [default: pruned-dd for a 2D problem, bnb for a 3D one]. The ray methods
+    /// Algorithm [default: pruned-dd for a 2D problem, pattern-search for a 2D floating body
+    /// or with --shard, bnb for a 3D one]. The ray methods
     /// (pruned-dd, full-dd, faces, exact, search) list the complementary extreme rays and the
     /// cones of a 2D problem; the pattern methods (bnb, pyramid, pattern-faces, pattern-search) list the maximal sign patterns
     /// (the convex pieces, each with a witness) of a 2D or 3D problem.

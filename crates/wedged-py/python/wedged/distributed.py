@@ -14,10 +14,11 @@
 Each task runs ``enumerate(..., shard=(i, n))`` (``wedged enumerate --shard i/n``) on a worker
 and hands back its part's JSON; :func:`wedged.merge` combines them. Every worker computes the
 same split of the search without talking to the others (see the README, "Beyond one
-machine"), so Dask only schedules and moves a few kilobytes per task. More shards than
-workers (the default: 2 per worker) let Dask balance the load: a worker that finishes early
-takes the next shard. A task that fails raises its error here; nothing incomplete is returned
-as complete.
+machine"), so Dask only schedules and moves a few kilobytes per task. A worker process keeps
+the split it made, so its next shard of the same search starts from it: each worker walks the
+top of the tree once. More shards than workers (the default: 4 per worker) let Dask balance
+the load: a worker that finishes early takes the next shard. A task that fails raises its
+error here; nothing incomplete is returned as complete.
 
 The problem goes to the workers as a problem file's path (which the workers must be able to
 read, with the files it names: a shared file system, as on a cluster) or as the matrix ``K``
@@ -40,9 +41,10 @@ from . import merge as _merge
 
 __all__ = ["critical", "enumerate"]
 
-#: Shards per worker when ``shards`` is not given: enough for Dask to even out the load, few
-#: because every shard solves the top of the tree again (BENCHMARKS.md, "Shards").
-SHARDS_PER_WORKER = 2
+#: Shards per worker when ``shards`` is not given: enough for Dask to even out the load (a
+#: worker walks the top of the tree once for all its shards; more shards per worker split the
+#: tree deeper, which every worker walks: BENCHMARKS.md, "Shards").
+SHARDS_PER_WORKER = 4
 
 
 def _part(spec: tuple, shard: str, options: dict) -> str:
@@ -136,8 +138,8 @@ def enumerate(
     condensed stiffness ``K`` (with ``dim`` and, for a floating body, ``rigid_modes``).
     ``mu``: required for ``K``; for a file, its ``mu`` unless given. ``shards``: default
     :data:`SHARDS_PER_WORKER` per worker of the cluster. ``method``: ``pattern-search``
-    (default in 2D) or ``bnb`` (default in 3D and for floating bodies); ``time_limit`` is
-    per shard.
+    (default in 2D, floating bodies too) or ``bnb`` (default in 3D); ``time_limit`` is per
+    shard.
     """
     options = {
         "method": method,
