@@ -364,8 +364,7 @@ impl<'a> Formulation<'a> {
         &self.gap[i]
     }
 
-    /// The length of a gap row ([`Formulation::gap_row`]) and of a program's point: the
-    /// `dim*m` reactions, then for a floating body the `k` rigid amplitudes.
+    /// The length of a gap row and of a program's point: `dim*m` reactions, `k` amplitudes.
     pub(crate) fn width(&self) -> usize {
         self.dim * self.m + self.modes
     }
@@ -376,10 +375,9 @@ impl<'a> Formulation<'a> {
         self.amplitude[j]
     }
 
-    /// The rows of `R^T r = 0` (no work on a rigid motion) over the `dim*m` reactions, each
-    /// mode's scaled to entries at most 1: the linear programs' balance rows (none when
-    /// clamped). The modes are independent, so are the rows; on the nodes a program lets press
-    /// they may not be, which a bounded simplex method does not mind.
+    /// The rows of `R^T r = 0` (no work on a rigid motion) over the `dim*m` reactions, scaled
+    /// to entries at most 1 (none when clamped): independent, though maybe not on the nodes a
+    /// program lets press, which a bounded simplex method does not mind.
     pub(crate) fn balance_rows(&self) -> Vec<Vec<f64>> {
         let rigid = self.problem.rigid_modes();
         (0..self.modes)
