@@ -8,7 +8,7 @@
 
 use std::sync::atomic::Ordering;
 
-use super::node_lp::LpCounters;
+use super::node_lp::{self, LpCounters};
 use super::program::{Class, Decision, Formulation, Goal, Norm};
 use super::simplex::{self, Answer, Lp};
 
@@ -71,17 +71,8 @@ impl<'f> ContactLp<'f> {
         let balance = form.balance_rows();
         let rows = m + q + 1 + balance.len();
         let mut lp = Lp::new(n, rows);
-        // A row over the reactions (then the amplitudes) on the edge (and amplitude) columns.
         let set_row = |lp: &mut Lp, k: usize, row: &[f64]| {
-            for (j, w) in row[..n0].chunks(2).enumerate() {
-                lp.a[k * n + 2 * j] = w[0] + mu * w[1];
-                lp.a[k * n + 2 * j + 1] = w[0] - mu * w[1];
-            }
-            for (j, &x) in row.get(n0..).unwrap_or(&[]).iter().enumerate() {
-                if let Some(c) = form.amplitude_of(j) {
-                    lp.a[k * n + n0 + c] = x;
-                }
-            }
+            node_lp::put_row(form, mu, row, &mut lp.a[k * n..(k + 1) * n]);
         };
         for i in 0..m {
             set_row(&mut lp, i, form.gap_row(i));

@@ -114,17 +114,8 @@ fn program(
     let rows = 3 * m + 1 + modes;
     let mu = shape.mu;
     let mut lp = Lp::new(n, rows);
-    // A row over the reactions (and, for a floating body, the `k` amplitudes after them).
     let set_row = |lp: &mut Lp, k: usize, row: &[f64]| {
-        for (i, (a, b)) in on_columns(&row[..reactions], mu).enumerate() {
-            lp.a[k * n + 2 * i] = a;
-            lp.a[k * n + 2 * i + 1] = b;
-        }
-        for (j, &x) in row.get(reactions..).unwrap_or(&[]).iter().enumerate() {
-            if let Some(c) = form.amplitude_of(j) {
-                lp.a[k * n + reactions + c] = x;
-            }
-        }
+        put_row(form, mu, row, &mut lp.a[k * n..(k + 1) * n]);
     };
     let mut unit = vec![0.0; reactions];
     for i in 0..m {
@@ -185,17 +176,24 @@ fn program(
         Norm::Gap(_) => unreachable!("the search normalises by the sum or by pressed nodes"),
     }
     if let Some(objective) = objective {
-        for (i, (a, b)) in on_columns(&objective[..reactions], mu).enumerate() {
-            lp.cost[2 * i] = a;
-            lp.cost[2 * i + 1] = b;
-        }
-        for (j, &x) in objective.get(reactions..).unwrap_or(&[]).iter().enumerate() {
-            if let Some(c) = form.amplitude_of(j) {
-                lp.cost[reactions + c] = x;
-            }
-        }
+        put_row(form, mu, objective, &mut lp.cost[..n]);
     }
     lp
+}
+
+/// Writes `row` (over the `2m` reactions, then a floating body's `k` amplitudes) into `out`, a
+/// program's row over the friction edges `a_i, b_i` at `mu` and then the amplitude columns.
+pub(super) fn put_row(form: &Formulation, mu: f64, row: &[f64], out: &mut [f64]) {
+    let reactions = 2 * form.m;
+    for (i, (a, b)) in on_columns(&row[..reactions], mu).enumerate() {
+        out[2 * i] = a;
+        out[2 * i + 1] = b;
+    }
+    for (j, &x) in row.get(reactions..).unwrap_or(&[]).iter().enumerate() {
+        if let Some(c) = form.amplitude_of(j) {
+            out[reactions + c] = x;
+        }
+    }
 }
 
 /// The point of the columns `x` at `mu`: the reactions (`2m`), then for a floating body the
