@@ -1,7 +1,8 @@
-//! One split per process (issue 24): a process that runs several shards of the same 2D search
-//! one after the other walks the top of the tree once, and a shard that starts from the kept
-//! split finds exactly what it finds when it walks the top itself. A split of another tree
-//! (another `mu`, another number of shards) or of a certified run is not reused.
+//! One split per process (issue 24): a process that runs several shards of the same search
+//! (the 2D contact-set search, `bnb` in 2D and 3D) one after the other walks the top of the
+//! tree once, and a shard that starts from the kept split finds exactly what it finds when it
+//! walks the top itself. A split of another tree (another `mu`, another number of shards,
+//! another method) or of a certified run is not reused.
 //!
 //! The kept split is the process's, so this file holds one test: run alone in its process,
 //! nothing else replaces the split between its steps.
@@ -12,10 +13,20 @@ use wedged::patterns::{
 use wedged::{Problem, Shard};
 
 fn shard(problem: &Problem, i: usize, n: usize, certify: bool) -> Patterns {
+    shard_of(problem, PatternMethod::Search, i, n, certify)
+}
+
+fn shard_of(
+    problem: &Problem,
+    method: PatternMethod,
+    i: usize,
+    n: usize,
+    certify: bool,
+) -> Patterns {
     enumerate_patterns(
         problem,
         &PatternSettings {
-            method: PatternMethod::Search,
+            method,
             shard: Some(Shard::new(i, n).unwrap()),
             certify,
             ..PatternSettings::default()
@@ -81,4 +92,39 @@ fn a_process_walks_the_top_once_per_tree() {
     let second = shard(&p, 2, n, true);
     assert!(split_nodes(&first) > 0 && split_nodes(&second) > 0);
     assert_eq!(second.patterns, cold.patterns);
+
+    // bnb, 2D and 3D: the same, and the 2D search's split is not bnb's.
+    let two = wedged::examples::random_spd_problem(8, 1.5, 2404);
+    let three = wedged::examples::random_spd_problem_dim(3, 5, 2.0, 2503);
+    for (problem, what) in [(&two, "2D"), (&three, "3D")] {
+        let bnb = |i: usize| shard_of(problem, PatternMethod::Bnb, i, 3, false);
+        let cold = bnb(2);
+        assert!(split_nodes(&cold) > 0, "{what}");
+        let parts: Vec<Patterns> = (1..=3).map(bnb).collect();
+        for part in &parts {
+            assert_eq!(split_nodes(part), 0, "{what}: bnb's split is reused");
+        }
+        same(
+            &parts[1],
+            &cold,
+            &format!("{what}: bnb shard 2 from the kept split"),
+        );
+        let whole = enumerate_patterns(
+            problem,
+            &PatternSettings {
+                method: PatternMethod::Bnb,
+                ..PatternSettings::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(
+            merge_shards(parts).unwrap().patterns,
+            whole.patterns,
+            "{what}"
+        );
+    }
+    assert!(
+        split_nodes(&shard(&p, 1, 3, false)) > 0,
+        "another method, another tree"
+    );
 }

@@ -19,7 +19,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 
 use super::{leaf_pattern, Found, PatternInfo, Undecided};
-use crate::conic::program::{Class, Decision, Entry, Formulation, Goal, Norm, POSITIVE};
+use crate::conic::program::{Class, Counters, Decision, Entry, Formulation, Goal, Norm, POSITIVE};
 use crate::rays::Progress;
 use crate::run::Control;
 use crate::shard::{self, Explored, Shard, Walk};
@@ -52,6 +52,25 @@ struct Node {
 
 impl shard::Tree for Search<'_, '_> {
     type Node = Node;
+
+    /// The problem and `mu` make every decision (not with `--certify`, whose refutations are
+    /// recorded as they are made).
+    fn split_key(&self) -> Option<u64> {
+        if self.form.refutations.is_some() || self.form.checker.is_some() {
+            return None;
+        }
+        Some(crate::problem::digest(&[
+            0xb4b_5ea4c, // this tree
+            self.form.problem.fingerprint(),
+            self.form.mu.to_bits(),
+        ]))
+    }
+
+    fn alarms(&self) -> u64 {
+        let doubts = self.form.doubts.lock().map_or(1, |d| d.len() as u64);
+        let stopped = u64::from(self.control.stopped().is_some());
+        Counters::get(&self.form.counters.uncertain) + doubts + stopped
+    }
 
     fn is_leaf(&self, node: &Node) -> bool {
         node.classes.iter().all(|&c| c != Class::Free)
