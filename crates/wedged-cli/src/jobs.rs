@@ -157,8 +157,13 @@ pub fn plan_enumerate(
         None if options.exact => MethodArg::Rays(Method::Exact),
         // Shards split a search tree, and a floating body's pieces are sign patterns (the ray
         // methods are for clamped bodies): the contact-set search of the pieces in 2D.
+        // With --certify, bnb: its decisions are kept for the exact check.
         None if problem.dim() == 2 && (options.shard.is_some() || problem.is_floating()) => {
-            MethodArg::Patterns(PatternMethod::Search)
+            MethodArg::Patterns(if options.certify {
+                PatternMethod::Bnb
+            } else {
+                PatternMethod::Search
+            })
         }
         None if problem.dim() == 2 => MethodArg::Rays(Method::PrunedDd),
         None => MethodArg::Patterns(PatternMethod::Bnb),
@@ -166,7 +171,7 @@ pub fn plan_enumerate(
     if problem.is_floating() {
         let why = match method {
             MethodArg::Rays(_) => Some(wedged::rays::FLOATING_RAYS.to_string()),
-            MethodArg::Patterns(m) => wedged::patterns::floating_refusal(m, options.certify),
+            MethodArg::Patterns(m) => wedged::patterns::floating_refusal(m),
         };
         if let Some(why) = why {
             return Err(Failure::Input(format!("{source}: {why}")));
@@ -366,7 +371,9 @@ pub fn run_library(
             "{source}: dim = {d}: --method {} needs a 2D problem; use --method bnb or pyramid",
             choice.name()
         )),
-        EnumerateError::InvalidSettings(m) => Failure::Input(format!("invalid option: {m}")),
+        EnumerateError::InvalidSettings(m) => {
+            Failure::Input(format!("{source}: invalid option: {m}"))
+        }
         e @ EnumerateError::Internal(_) => Failure::Internal(format!("{source}: {e}")),
     })
 }
@@ -511,7 +518,9 @@ pub fn run_critical_library(
         critical_with_control(problem, settings, progress, cancel)
     });
     result.map_err(|e| match e {
-        EnumerateError::InvalidSettings(m) => Failure::Input(format!("invalid option: {m}")),
+        EnumerateError::InvalidSettings(m) => {
+            Failure::Input(format!("{source}: invalid option: {m}"))
+        }
         e @ EnumerateError::UnsupportedDim(_) => Failure::Input(format!("{source}: {e}")),
         e @ EnumerateError::Internal(_) => Failure::Internal(format!("{source}: {e}")),
     })

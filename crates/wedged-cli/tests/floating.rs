@@ -99,11 +99,23 @@ fn a_cork_is_wedged_above_the_tangent_of_its_notch() {
         vec!["enumerate", path, "--method", "pruned-dd"],
         vec!["enumerate", path, "--exact"],
         vec!["enumerate", path, "--method", "pyramid"],
-        vec!["enumerate", path, "--certify"],
     ] {
         assert_bad_input(&wedged(&args), &[path, "float"]);
     }
-    assert_bad_input(&wedged(&["critical", path, "--certify"]), &["floating"]);
+
+    // --certify: a 2D floating body is checked exactly (the default method becomes bnb, whose
+    // decisions are kept for the check); the same pieces and mu*.
+    let out = wedged(&["enumerate", path, "--certify", "--json", "-"]);
+    assert_code(&out, 0);
+    let certified: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(certified["method"], "bnb");
+    assert_eq!(certified["certified"], true);
+    assert_eq!(patterns(&certified), patterns(&bnb));
+    let out = wedged(&["critical", path, "--certify", "--json", "-"]);
+    assert_code(&out, 0);
+    let certified: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(certified["certified"], true);
+    assert!((certified["upper"].as_f64().unwrap() - upper).abs() <= 1e-6 * upper);
 }
 
 #[test]

@@ -263,6 +263,11 @@ def test_a_floating_body_gives_the_commands_answer():
     assert abs(from_file.mu - from_matrix.mu) <= 1e-9
     run = wedged.enumerate(problem.K, 0.8, rigid_modes=R)
     assert run.outcome == "wedged" and len(run.patterns) == 6
+    # --certify applies to a 2D floating body: the same answers, checked exactly.
+    certified = wedged.critical(problem.K, rigid_modes=R, certify=True)
+    assert certified.certified is True and abs(certified.mu - from_matrix.mu) <= 1e-6
+    checked = wedged.enumerate(problem.K, 0.8, rigid_modes=R, method="bnb", certify=True)
+    assert checked.certified is True and len(checked.patterns) == 6
     with pytest.raises(wedged.InputError, match="floats"):
         wedged.enumerate(problem.K, 0.8, rigid_modes=R, method="pruned-dd")
     with pytest.raises(wedged.InputError, match="rigid"):

@@ -195,24 +195,8 @@ pub(crate) struct Refutation {
     pub cut: Cut,
     /// Empty when the solver gave no certificate (a program without variables).
     pub z: Vec<f64>,
-}
-
-/// The refutation `f`'s program solved anew at `mu`, with its own normalisation or, when `sum`,
-/// with `sum r_n = 1`: its new refutation, or `None` when it is not infeasible there. (What
-/// `critical::certify::certify` does with a certificate that fails its exact check.)
-pub(crate) fn solve_again(
-    problem: &Problem,
-    f: &Refutation,
-    mu: f64,
-    sum: bool,
-) -> Option<Refutation> {
-    let mut form = Formulation::new(problem);
-    form.refutations = Some(Mutex::new(Vec::new()));
-    let norm = if sum { Norm::Sum } else { f.cut.norm() };
-    match form.decide_at(&f.classes, mu, norm, Goal::Feasible) {
-        Decision::No => form.take_refutations().pop(),
-        _ => None,
-    }
+    /// A floating body's multipliers `y` of `R^T r = 0`, one per mode (`w = G z + R y`).
+    pub balance: Vec<f64>,
 }
 
 /// The data every program of a run shares.
@@ -256,7 +240,7 @@ impl<'a> Formulation<'a> {
         let rigid = problem.rigid_modes();
         // A mode's normal components below round-off of its largest entry are zero: a motion
         // that slides every contact node along its wall (a turn of a square frustum's corners
-        // about its axis) has none, and its amplitude is then no unknown of the programs.
+        // about its axis) has none, and its amplitude is no unknown of the programs.
         let modes = rigid.ncols();
         let floor: Vec<f64> = (0..modes).map(|j| 1e-12 * rigid.column(j).amax()).collect();
         let normal = |i: usize, j: usize| {
@@ -551,7 +535,7 @@ impl<'a> Formulation<'a> {
             // Every reaction is zero: only the trivial solution.
             return (
                 Decision::No,
-                self.refuted(classes, mu, norm, goal, Vec::new()),
+                self.refuted(classes, mu, norm, goal, Vec::new(), Vec::new()),
             );
         }
         let (entries, weights): (&[Entry], Option<&[f64]>) = match goal {
@@ -582,6 +566,7 @@ impl<'a> Formulation<'a> {
                 .filter(|&(_, x)| x != 0.0)
                 .collect()
         };
+        let mut balance_rows = Vec::new();
         if k > 0 {
             // R^T r = 0 (no work on a rigid motion) on the reactions that may be nonzero, as
             // independent rows: with few such nodes the k rows are dependent (one node in 2D:
@@ -592,16 +577,18 @@ impl<'a> Formulation<'a> {
                 .flat_map(|j| (0..d).map(move |c| d * j + c))
                 .collect();
             let block = nalgebra::DMatrix::from_fn(k, cols.len(), |j, c| rigid[(cols[c], j)]);
-            let svd = block.svd(false, true);
+            let svd = block.svd(true, true);
             let top = svd.singular_values.max();
-            let vt = svd.v_t.expect("asked for");
+            let (u, vt) = (svd.u.expect("asked for"), svd.v_t.expect("asked for"));
             for (row, &sigma) in svd.singular_values.iter().enumerate() {
                 if sigma > 1e-9 * top {
                     let mut full = vec![0.0; d * m];
                     for (c, &a) in cols.iter().enumerate() {
                         full[a] = vt[(row, c)];
                     }
-                    p.zero(Affine::new(on_reactions(&full), 0.0));
+                    // `v^T r = u^T R^T r / sigma`: a multiplier `u / sigma` of the modes' rows.
+                    let index = p.zero(Affine::new(on_reactions(&full), 0.0));
+                    balance_rows.push((index, u.column(row) / sigma));
                 }
             }
         }
@@ -753,8 +740,20 @@ impl<'a> Formulation<'a> {
                 } else {
                     Vec::new()
                 };
+                let balance = if z.is_empty() {
+                    Vec::new()
+                } else {
+                    balance_rows
+                        .iter()
+                        .fold(vec![0.0; k], |mut b, (index, along)| {
+                            b.iter_mut()
+                                .zip(along.iter())
+                                .for_each(|(b, a)| *b += y[*index] * a);
+                            b
+                        })
+                };
                 let kept = if cuts.is_empty() {
-                    self.refuted(classes, mu, norm, goal, z)
+                    self.refuted(classes, mu, norm, goal, z, balance)
                 } else {
                     None
                 };
@@ -777,6 +776,7 @@ impl<'a> Formulation<'a> {
         norm: Norm,
         goal: Goal,
         z: Vec<f64>,
+        balance: Vec<f64>,
     ) -> Option<Refutation> {
         // A max-min program is infeasible exactly when its feasibility program is (its `t` is
         // free below), and the exact check rests on the gap multipliers alone, so its
@@ -794,6 +794,7 @@ impl<'a> Formulation<'a> {
             mu,
             cut,
             z,
+            balance,
         })
     }
 }

@@ -60,8 +60,9 @@ use nalgebra::DMatrix;
 use crate::solution::{check_solution, tangential, ContactPattern, NodeStatus};
 
 use crate::conic::program::{
-    leaf_classes, solve_again, Counters, Decision, Formulation, Goal, Norm, Refutation,
+    leaf_classes, Counters, Decision, Formulation, Goal, Norm, Refutation,
 };
+use crate::conic::refutation::solve_again;
 use crate::patterns::Undecided;
 use crate::problem::Problem;
 use crate::run::{Control, EnumerateError, Fault, Limits, Stop};
@@ -319,12 +320,11 @@ pub fn critical_with_control(
             settings.method.name()
         )));
     }
-    if problem.is_floating() && settings.certify {
-        return Err(EnumerateError::InvalidSettings(
-            "--certify is not yet available for a floating body (its exact checks rest on the \
-             exact compliance K^-1); drop --certify"
-                .into(),
-        ));
+    if problem.is_floating() {
+        let why = crate::patterns::floating_certify_refusal(problem.dim(), settings.certify);
+        if let Some(why) = why {
+            return Err(EnumerateError::InvalidSettings(why));
+        }
     }
     let start = Instant::now();
     // Everything below runs on the problem in per-node units that bring K's diagonal near 1

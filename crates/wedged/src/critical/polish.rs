@@ -330,5 +330,6 @@ fn check(form: &Formulation, contact: &[bool], y: &[f64], mu: f64) -> Option<Ref
         mu,
         cut: Cut::Sum,
         z: (0..m).map(|k| y[k] / form.scale_of(k)).collect(),
+        balance: Vec::new(),
     })
 }

@@ -24,6 +24,10 @@
 //! 3. **The reported patterns are the maximal ones among the leaves' patterns**, which is plain
 //!    comparison of sign vectors and is not redone.
 //!
+//! A 2D floating body is certified the same way on its exact problem of
+//! `conic::refutation::Compliance` (the witness in its reactions and rigid amplitudes, the
+//! amplitudes bounded); a 3D one is refused (`super::floating_certify_refusal`).
+//!
 //! So every realised pattern is below a reported one and every reported one is realised: the
 //! reported patterns are the maximal realised patterns. The statuses of the witnesses are
 //! certified as statuses of that witness; the claim that a node slips in *every* solution of its
@@ -35,8 +39,11 @@ use num_traits::{Signed, ToPrimitive, Zero};
 use rayon::prelude::*;
 
 use super::{classes_of, Pattern, PatternMethod};
-use crate::conic::program::{describe, solve_again, Formulation, Refutation};
-use crate::conic::refutation::integer_stiffness;
+use crate::conic::program::{describe, Formulation, Refutation};
+use crate::conic::refutation::solve_again;
+use crate::conic::refutation::{
+    amplitude_exponent, amplitudes_bounded, floating_state, integer_floating, integer_stiffness,
+};
 use crate::problem::Problem;
 use crate::rational::{exact_state, rat};
 use crate::solution::{ContactPattern, NodeStatus};
@@ -107,7 +114,11 @@ pub(crate) fn certify(
     let checked =
         crate::conic::refutation::check_all(problem, &refutations, Some(problem.mu()), &again);
     failures.extend(checked.failures);
-    let k = integer_stiffness(problem);
+    let k = if problem.is_floating() {
+        integer_floating(problem)
+    } else {
+        integer_stiffness(problem)
+    };
     let witnesses: Vec<String> = patterns
         .par_iter()
         .enumerate()
@@ -188,7 +199,8 @@ fn circle_point(x: f64, y: f64) -> (BigInt, BigInt, BigInt) {
     (if flip { -c } else { c }, s, den)
 }
 
-/// Recomputes a pattern's witness exactly (see the module docs) and checks it.
+/// Recomputes a pattern's witness exactly (see the module docs) and checks it; `k` is
+/// [`integer_stiffness`], or [`integer_floating`] for a floating body.
 fn check_witness(problem: &Problem, k: &[Vec<BigInt>], p: &Pattern) -> Result<(), String> {
     let (d, m) = (problem.dim(), problem.nodes());
     let n = d * m;
@@ -210,10 +222,20 @@ fn check_witness(problem: &Problem, k: &[Vec<BigInt>], p: &Pattern) -> Result<()
             cols.iter().map(|&c| kf[(a, c)]).collect(),
         )
     };
-    // den q r_t_c - num_c p r_n = 0 (mu = p / q): r_t = mu r_n (num / den).
+    // den q r_t_c - num_c p r_n = 0 (mu = p / q): r_t = mu r_n (num / den). Over u (r = K u)
+    // when clamped, over r itself when floating.
+    let floating = problem.is_floating();
+    let unit = |a: usize| -> (Vec<BigInt>, Vec<f64>) {
+        let mut e = vec![BigInt::zero(); n];
+        let mut x = vec![0.0; n];
+        e[a] = BigInt::from(1);
+        x[a] = 1.0;
+        (e, x)
+    };
     let mut slip_rows = |i: usize, c: usize, num: &BigInt, den: &BigInt| {
-        let (et, xt) = k_row(d * i + c);
-        let (en, xn) = k_row(d * i);
+        let row = |a: usize| if floating { unit(a) } else { k_row(a) };
+        let (et, xt) = row(d * i + c);
+        let (en, xn) = row(d * i);
         let (a, b) = (den * &mq, num * &mp);
         exact.push(et.iter().zip(&en).map(|(t, n)| &a * t - &b * n).collect());
         let ratio = num.to_f64().unwrap_or(0.0) / den.to_f64().unwrap_or(1.0);
@@ -253,12 +275,25 @@ fn check_witness(problem: &Problem, k: &[Vec<BigInt>], p: &Pattern) -> Result<()
             }
         }
     }
-    for a in (0..n).filter(|&a| !free_r(a / d)) {
-        let (e, x) = k_row(a);
-        exact.push(e);
-        float.push(x);
-    }
-    let (u, r) = exact_state(k, &cols, exact, float, &p.u);
+    let (u, r) = if floating {
+        // Unknowns: the contact nodes' reactions and the amplitudes (`k` is `[G | R]`).
+        let reactions: Vec<usize> = (0..n).filter(|&a| free_r(a / d)).collect();
+        let shut: Vec<usize> = (0..m).filter(|&i| closed(i)).map(|i| d * i).collect();
+        let x = problem.point_of(&p.u, &p.r);
+        let rows = exact.into_iter().zip(float).collect();
+        let (u, r, a) = floating_state(problem, k, &reactions, &shut, rows, &x);
+        if !amplitudes_bounded(&a, &r, d, amplitude_exponent(problem)) {
+            return Err("exact witness: a rigid amplitude beyond its bound (refutation.rs)".into());
+        }
+        (u, r)
+    } else {
+        for a in (0..n).filter(|&a| !free_r(a / d)) {
+            let (e, x) = k_row(a);
+            exact.push(e);
+            float.push(x);
+        }
+        exact_state(k, &cols, exact, float, &p.u)
+    };
     for i in 0..m {
         let node = i + 1;
         let (un, rn) = (&u[d * i], &r[d * i]);
