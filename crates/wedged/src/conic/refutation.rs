@@ -88,7 +88,7 @@ pub(crate) fn amplitude_exponent(problem: &Problem) -> i32 {
 
 /// Whether a floating body's exact state meets the amplitude bound: `|a_l| <= A sum_i r_n_i`
 /// (`a` and `r` integers times the same positive factor, `e = log2 A`).
-pub(crate) fn amplitudes_bounded(a: &[BigInt], r: &[BigInt], d: usize, e: i32) -> bool {
+fn amplitudes_bounded(a: &[BigInt], r: &[BigInt], d: usize, e: i32) -> bool {
     let total: BigInt = r.iter().step_by(d).sum();
     a.iter().all(|x| {
         if e >= 0 {
@@ -124,8 +124,9 @@ pub(crate) fn integer_floating(problem: &Problem) -> Vec<Vec<BigInt>> {
 /// reaction components `cols` (every other reaction is zero) and the amplitudes; the
 /// conditions are `rows` (each over the `n` reactions, exactly and in floating point), `u_a =
 /// 0` for each `a` in `shut`, and `R^T r = 0`. Solved by [`kernel_point`] (the free unknowns
-/// taken from `x`); returns `(u, r, a)` with `u = G r + R a`, integers, `r` and `a` times one
-/// positive factor and `u` times another. `gr` is [`integer_floating`]'s.
+/// taken from `x`); returns `(u, r)` with `u = G r + R a`, integers, each times its own
+/// positive factor, or an error when an amplitude `a` breaks its bound
+/// ([`amplitudes_bounded`]). `gr` is [`integer_floating`]'s.
 pub(crate) fn floating_state(
     problem: &Problem,
     gr: &[Vec<BigInt>],
@@ -133,7 +134,7 @@ pub(crate) fn floating_state(
     shut: &[usize],
     rows: Vec<(Vec<BigInt>, Vec<f64>)>,
     x: &[f64],
-) -> (Vec<BigInt>, Vec<BigInt>, Vec<BigInt>) {
+) -> Result<(Vec<BigInt>, Vec<BigInt>), String> {
     let joined = floating_matrix(problem);
     let n = joined.nrows();
     let k = joined.ncols() - n;
@@ -184,8 +185,11 @@ pub(crate) fn floating_state(
                 .sum()
         })
         .collect();
-    let amplitudes = point[cols.len()..].to_vec();
-    (u, reactions, amplitudes)
+    let bound = amplitude_exponent(problem);
+    if !amplitudes_bounded(&point[cols.len()..], &reactions, problem.dim(), bound) {
+        return Err("exact witness: a rigid amplitude beyond its bound (refutation.rs)".into());
+    }
+    Ok((u, reactions))
 }
 
 /// A matrix scaled by one power of two to integers (exact).
@@ -590,19 +594,16 @@ pub(crate) fn repair(
     let (mut exact, mut float) = (Vec::new(), Vec::new());
     // A floating body's amplitudes: R_n^T z = 0, so that the shift of every c_i vanishes (a
     // degenerate claim needs some c_i = 0 exactly).
-    for row in &comp.rigid {
+    for (l, row) in comp.rigid.iter().enumerate() {
         let mut e = row.clone();
         e.resize(width, BigInt::zero());
-        let scale = row.iter().map(|x| x.abs()).max().unwrap_or_default();
+        exact.push(e);
+        // R[n_j, l] (the column of mode l holds R as stored).
         float.push(
             (0..width)
-                .map(|j| match (e[j].to_f64(), scale.to_f64()) {
-                    (Some(x), Some(t)) if t > 0.0 => x / t,
-                    _ => 0.0,
-                })
+                .map(|j| if j < m { comp.near[m + l][d * j] } else { 0.0 })
                 .collect(),
         );
-        exact.push(e);
     }
     for (&i, wi) in v.iter().zip(&w).filter(|_| degenerate) {
         let wt = norm(&wi[1..]);

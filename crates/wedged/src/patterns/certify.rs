@@ -40,10 +40,7 @@ use rayon::prelude::*;
 
 use super::{classes_of, Pattern, PatternMethod};
 use crate::conic::program::{describe, Formulation, Refutation};
-use crate::conic::refutation::solve_again;
-use crate::conic::refutation::{
-    amplitude_exponent, amplitudes_bounded, floating_state, integer_floating, integer_stiffness,
-};
+use crate::conic::refutation::{floating_state, integer_floating, integer_stiffness, solve_again};
 use crate::problem::Problem;
 use crate::rational::{exact_state, rat};
 use crate::solution::{ContactPattern, NodeStatus};
@@ -281,11 +278,7 @@ fn check_witness(problem: &Problem, k: &[Vec<BigInt>], p: &Pattern) -> Result<()
         let shut: Vec<usize> = (0..m).filter(|&i| closed(i)).map(|i| d * i).collect();
         let x = problem.point_of(&p.u, &p.r);
         let rows = exact.into_iter().zip(float).collect();
-        let (u, r, a) = floating_state(problem, k, &reactions, &shut, rows, &x);
-        if !amplitudes_bounded(&a, &r, d, amplitude_exponent(problem)) {
-            return Err("exact witness: a rigid amplitude beyond its bound (refutation.rs)".into());
-        }
-        (u, r)
+        floating_state(problem, k, &reactions, &shut, rows, &x)?
     } else {
         for a in (0..n).filter(|&a| !free_r(a / d)) {
             let (e, x) = k_row(a);
