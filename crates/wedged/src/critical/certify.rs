@@ -323,26 +323,43 @@ mod tests {
         assert!(checked >= 25, "{checked}");
     }
 
+    /// A witness, its closed gaps, its `upper` and its exact check there.
+    type Checked = (
+        crate::critical::CriticalWitness,
+        Vec<bool>,
+        f64,
+        Result<f64, String>,
+    );
+
+    /// `critical`'s witness of `p`, its closed gaps, its `upper` and its exact check there
+    /// (`None` without a witness).
+    fn witness_checked(p: &Problem) -> Option<Checked> {
+        use crate::critical::{critical, CriticalSettings};
+        let c = critical(p, &CriticalSettings::default()).unwrap();
+        let (Some(w), Some(upper)) = (c.witness, c.upper) else {
+            return None;
+        };
+        let closed: Vec<bool> = w
+            .pattern
+            .iter()
+            .map(|&q| q != crate::solution::ContactPattern::Separated)
+            .collect();
+        let exact = check_witness(p, &w.u, &w.r, &closed, upper);
+        Some((w, closed, upper, exact))
+    }
+
     /// A witness of `critical` passes exactly at its own `upper`; claimed at a `upper` a
     /// millionth lower, it is caught; with its pressures spread to every node it no longer
     /// solves WP and is caught too.
     #[test]
     fn witnesses_pass_and_corrupted_ones_fail() {
-        use crate::critical::{critical, CriticalSettings};
         let mut checked = 0;
         for case in 0..12u64 {
             let dim = 2 + (case % 2) as usize;
             let p = random_spd_problem_dim(dim, 2 + (case % 3) as usize, 1.0, 300 + case);
-            let c = critical(&p, &CriticalSettings::default()).unwrap();
-            let (Some(w), Some(upper)) = (&c.witness, c.upper) else {
+            let Some((w, closed, upper, exact)) = witness_checked(&p) else {
                 continue;
             };
-            let closed: Vec<bool> = w
-                .pattern
-                .iter()
-                .map(|&q| q != crate::solution::ContactPattern::Separated)
-                .collect();
-            let exact = check_witness(&p, &w.u, &w.r, &closed, upper);
             assert!(
                 exact
                     .as_ref()
@@ -379,7 +396,6 @@ mod tests {
     /// caught a millionth lower.
     #[test]
     fn a_floating_body_is_certified_and_corruptions_are_caught() {
-        use crate::critical::{critical, CriticalSettings};
         use crate::examples::floating_notch;
         let (mut refuted, mut stripped, mut witnesses, mut unbalanced) = (0, 0, 0, 0);
         for case in 0..16u64 {
@@ -419,16 +435,9 @@ mod tests {
                 stripped += check_refutation(&p, &comp, &alone).is_err() as usize;
                 refuted += 1;
             }
-            let c = critical(&p, &CriticalSettings::default()).unwrap();
-            let (Some(w), Some(upper)) = (&c.witness, c.upper) else {
+            let Some((w, closed, upper, exact)) = witness_checked(&p) else {
                 continue;
             };
-            let closed: Vec<bool> = w
-                .pattern
-                .iter()
-                .map(|&q| q != crate::solution::ContactPattern::Separated)
-                .collect();
-            let exact = check_witness(&p, &w.u, &w.r, &closed, upper);
             // In 3D, two pressed nodes balance in floating point but not as stored: the turn
             // about the line through them does work on their reactions by round-off (see
             // `refutation::Compliance`), so such a witness has no exact state and is named.
