@@ -247,6 +247,15 @@ pub(crate) struct EnumerateArgs {
     pub(crate) max_memory: Option<u64>,
     #[command(flatten)]
     pub(crate) json: JsonArg,
+    /// Stream the pieces: write each maximal sign pattern to this file as one line of JSON
+    /// (pattern, status, u, r, margin, as in --json) as soon as it is found, and keep none in
+    /// memory. pattern-search (the default with --jsonl in 2D) writes each one as its leaf of
+    /// the search is decided, in the order found, so memory does not grow with the number of
+    /// pieces; the other pattern methods write theirs at the end. The summary and --json then
+    /// give the count, not the pieces. A run that stops early has written the pieces found so
+    /// far. Not with a ray method, --vtk, --svg or --shard.
+    #[arg(long, value_name = "OUT.jsonl")]
+    pub(crate) jsonl: Option<PathBuf>,
     /// For a meshed body: write one ParaView file per wedged cone, DIR/cone-N.vtu, or with a
     /// pattern method per maximal pattern, DIR/pattern-N.vtu (old cone-N.vtu and pattern-N.vtu
     /// files in DIR are removed).

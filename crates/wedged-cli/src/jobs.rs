@@ -12,7 +12,8 @@ use std::time::Duration;
 use clap::builder::PossibleValue;
 use clap::ValueEnum;
 use wedged::patterns::{
-    enumerate_patterns_with_control, PatternMethod, PatternSettings, DEFAULT_PYRAMID_FACES,
+    enumerate_patterns_streaming, enumerate_patterns_with_control, PatternMethod, PatternSettings,
+    PatternSink, DEFAULT_PYRAMID_FACES,
 };
 use wedged::{
     critical_with_control, enumerate_with_control, Critical, CriticalMethod, CriticalProgress,
@@ -112,6 +113,9 @@ pub struct EnumerateOptions {
     /// `--shard I/N`: one shard of the search (pattern methods with a tree: `bnb`,
     /// `pattern-search`, the default with a shard).
     pub shard: Option<wedged::Shard>,
+    /// `--jsonl`: the pieces are streamed (a pattern method; `pattern-search` by default in
+    /// 2D).
+    pub stream: bool,
 }
 
 /// The method and settings that `options` ask for on `problem` (`source` names the problem in
@@ -158,7 +162,9 @@ pub fn plan_enumerate(
         // Shards split a search tree, and a floating body's pieces are sign patterns (the ray
         // methods are for clamped bodies): the contact-set search of the pieces in 2D.
         // With --certify, bnb: its decisions are kept for the exact check.
-        None if problem.dim() == 2 && (options.shard.is_some() || problem.is_floating()) => {
+        None if problem.dim() == 2
+            && (options.shard.is_some() || problem.is_floating() || options.stream) =>
+        {
             MethodArg::Patterns(if options.certify {
                 PatternMethod::Bnb
             } else {
@@ -208,6 +214,21 @@ pub fn plan_enumerate(
                 "--shard {shard} splits the search tree of --method bnb or pattern-search (the \
                  default with --shard); --method {} has none to split",
                 method.name()
+            )));
+        }
+    }
+    if options.stream {
+        if let MethodArg::Rays(m) = method {
+            return Err(Failure::Input(format!(
+                "--jsonl streams sign patterns, and --method {} lists rays: use --json, or a \
+                 pattern method (pattern-search, the default with --jsonl in 2D)",
+                m.name()
+            )));
+        }
+        if let Some(shard) = options.shard {
+            return Err(Failure::Input(format!(
+                "--jsonl streams a whole run's pieces; --shard {shard} writes a part for \
+                 `wedged merge` with --json: give one of them"
             )));
         }
     }
@@ -309,8 +330,9 @@ pub fn enumerate(
     certify: bool,
     cancel: &AtomicBool,
     show: Show,
+    sink: Option<PatternSink>,
 ) -> Result<Enumerated, Failure> {
-    let answer = run_library(problem, choice, source, cancel, show)?;
+    let answer = run_library(problem, choice, source, cancel, show, sink)?;
     let rays_certificate = match (&answer, certify) {
         (Answer::Rays(result), true) => Some(certify_enumeration(problem, result)),
         _ => None,
@@ -348,23 +370,26 @@ fn with_line<P, T>(
 
 /// Runs the enumeration and sorts its errors into bad input and internal failures.
 /// `cancel` stops the run (it then returns what it found, marked incomplete); `show` says when
-/// the live progress line is drawn.
+/// the live progress line is drawn; a pattern method hands its patterns to `sink` when one is
+/// given ([`wedged::enumerate_patterns_streaming`]).
 pub fn run_library(
     problem: &Problem,
     choice: &Choice,
     source: &str,
     cancel: &AtomicBool,
     show: Show,
+    sink: Option<PatternSink>,
 ) -> Result<Answer, Failure> {
     let text = |p: Progress, seconds: f64| progress_text(choice, p, seconds);
     let result = with_line(show, text, |progress| match choice {
         Choice::Rays(settings) => {
             enumerate_with_control(problem, settings, progress, cancel).map(Answer::Rays)
         }
-        Choice::Patterns(settings) => {
-            enumerate_patterns_with_control(problem, settings, progress, cancel)
-                .map(Answer::Patterns)
+        Choice::Patterns(settings) => match sink {
+            Some(sink) => enumerate_patterns_streaming(problem, settings, progress, cancel, sink),
+            None => enumerate_patterns_with_control(problem, settings, progress, cancel),
         }
+        .map(Answer::Patterns),
     });
     result.map_err(|e| match e {
         EnumerateError::UnsupportedDim(d) => Failure::Input(format!(

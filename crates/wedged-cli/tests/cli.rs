@@ -170,6 +170,7 @@ fn check_report(report: &Value, k: &DMatrix<f64>) {
             "uncertain",
             "near_degenerate",
             "realised",
+            "streamed",
             "bound_tightenings",
             "lp_solves",
             "lp_pivots",

@@ -36,7 +36,8 @@ use wedged_cli::jobs::{
 };
 use wedged_cli::one_line;
 use wedged_cli::report::answer::Choice;
-use wedged_cli::report::json::{Header, Report};
+use wedged_cli::report::files::JsonLines;
+use wedged_cli::report::json::{pattern_line, Header, Report};
 use wedged_cli::report::merge::Part;
 
 create_exception!(
@@ -201,6 +202,7 @@ fn enumerate_run(
     zero_tol: Option<f64>,
     progress: bool,
     shard: Option<&str>,
+    jsonl: Option<PathBuf>,
 ) -> PyResult<EnumerationRun> {
     let shard = shard
         .map(wedged::Shard::parse)
@@ -212,18 +214,45 @@ fn enumerate_run(
         time_limit,
         certify,
         shard,
+        stream: jsonl.is_some(),
         ..EnumerateOptions::default()
     };
     let choice = jobs::plan_enumerate(&problem, source, &options).map_err(to_py)?;
+    // The pieces streamed to a file as found, as `--jsonl` does.
+    let lines = jsonl
+        .as_deref()
+        .map(JsonLines::create)
+        .transpose()
+        .map_err(|e| InputError::new_err(e.to_string()))?;
+    let write_line = |p: wedged::Pattern| {
+        if let Some(lines) = &lines {
+            lines.write(&pattern_line(&p));
+        }
+    };
     let (run, library_seconds) = released(py, |cancel| {
         let start = Instant::now();
-        let run = jobs::enumerate(&problem, &choice, source, certify, cancel, show(progress))?;
+        let run = jobs::enumerate(
+            &problem,
+            &choice,
+            source,
+            certify,
+            cancel,
+            show(progress),
+            lines
+                .is_some()
+                .then_some(&write_line as wedged::PatternSink),
+        )?;
         let seconds = start.elapsed().as_secs_f64();
         match run.certification_failure(source) {
             Some(failure) => Err(failure),
             None => Ok((run, seconds)),
         }
     })?;
+    if let Some(lines) = lines {
+        lines
+            .finish()
+            .map_err(|e| InputError::new_err(e.to_string()))?;
+    }
     Ok(EnumerationRun {
         problem,
         choice,
@@ -385,9 +414,10 @@ fn critical_json(
 }
 
 /// `enumerate(K, mu, dim, method, time_limit, certify, zero_tol, progress, rigid_modes,
-/// shard)`: the run of `wedged enumerate` on the condensed stiffness `K` (`shard` is `"I/N"`).
+/// shard, jsonl)`: the run of `wedged enumerate` on the condensed stiffness `K` (`shard` is
+/// `"I/N"`; `jsonl` a path, as `--jsonl`).
 #[pyfunction]
-#[pyo3(signature = (k, mu, dim=2, method=None, time_limit=None, certify=false, zero_tol=None, progress=false, rigid_modes=None, shard=None))]
+#[pyo3(signature = (k, mu, dim=2, method=None, time_limit=None, certify=false, zero_tol=None, progress=false, rigid_modes=None, shard=None, jsonl=None))]
 #[allow(clippy::too_many_arguments)]
 fn enumerate(
     py: Python<'_>,
@@ -401,10 +431,11 @@ fn enumerate(
     progress: bool,
     rigid_modes: Option<PyReadonlyArray2<'_, f64>>,
     shard: Option<&str>,
+    jsonl: Option<PathBuf>,
 ) -> PyResult<EnumerationRun> {
     let problem = matrix_problem(&k, rigid_modes.as_ref(), dim, mu)?;
     enumerate_run(
-        py, problem, None, "K", method, time_limit, certify, zero_tol, progress, shard,
+        py, problem, None, "K", method, time_limit, certify, zero_tol, progress, shard, jsonl,
     )
 }
 
@@ -500,8 +531,8 @@ impl LoadedProblem {
         self.model.is_some()
     }
 
-    /// The run of `wedged enumerate FILE [--mu MU] [--shard I/N]`.
-    #[pyo3(signature = (mu=None, method=None, time_limit=None, certify=false, zero_tol=None, progress=false, shard=None))]
+    /// The run of `wedged enumerate FILE [--mu MU] [--shard I/N] [--jsonl PATH]`.
+    #[pyo3(signature = (mu=None, method=None, time_limit=None, certify=false, zero_tol=None, progress=false, shard=None, jsonl=None))]
     #[allow(clippy::too_many_arguments)]
     fn enumerate(
         slf: &Bound<'_, Self>,
@@ -512,6 +543,7 @@ impl LoadedProblem {
         zero_tol: Option<f64>,
         progress: bool,
         shard: Option<&str>,
+        jsonl: Option<PathBuf>,
     ) -> PyResult<EnumerationRun> {
         let this = slf.get();
         let problem = match (mu, this.mu_given) {
@@ -538,6 +570,7 @@ impl LoadedProblem {
             zero_tol,
             progress,
             shard,
+            jsonl,
         )
     }
 

@@ -155,6 +155,34 @@ def test_to_meshio_of_a_meshed_body():
         wedged.load(FIXTURES / "two_nodes.toml").enumerate().to_meshio(0)
 
 
+def test_pieces_streamed_to_a_jsonl_file(tmp_path):
+    """``jsonl=``: the pieces of pattern-search, one JSON object per line, none kept."""
+    from conftest import EXAMPLES
+
+    problem = wedged.load(EXAMPLES / "plug2d.toml")
+    kept = problem.enumerate(method="pattern-search")
+    path = tmp_path / "pieces.jsonl"
+    streamed = problem.enumerate(jsonl=path)
+    assert streamed.method == "pattern-search" and streamed.complete
+    assert streamed.patterns == [] and streamed.info["streamed"] == len(kept.patterns) > 0
+    lines = [json.loads(line) for line in path.read_text().splitlines()]
+    assert sorted(tuple(p["pattern"]) for p in lines) == sorted(
+        tuple(p.pattern) for p in kept.patterns
+    )
+    by_pattern = {tuple(p.pattern): p for p in kept.patterns}
+    for line in lines:
+        piece = by_pattern[tuple(line["pattern"])]
+        assert np.allclose(line["u"], piece.u, rtol=0, atol=0)
+        assert np.allclose(line["r"], piece.r, rtol=0, atol=0)
+    k = problem.K
+    with_k = wedged.enumerate(k, problem.mu, jsonl=str(tmp_path / "k.jsonl"))
+    assert with_k.info["streamed"] == len(kept.patterns)
+    with pytest.raises(wedged.InputError, match="--jsonl"):
+        wedged.enumerate(k, problem.mu, method="pruned-dd", jsonl=tmp_path / "x.jsonl")
+    with pytest.raises(wedged.InputError, match="--jsonl"):
+        wedged.enumerate(k, problem.mu, jsonl=tmp_path)
+
+
 # The command's catalogue of bad input: each raises InputError, a ValueError, on one line.
 BAD_MATRICES = {
     "nan": np.array([[2.0, np.nan], [np.nan, 1.0]]),

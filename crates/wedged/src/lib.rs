@@ -69,8 +69,8 @@ pub use critical::{
     CriticalSettings, CriticalStatus, CriticalWitness, PatternThreshold,
 };
 pub use patterns::{
-    enumerate_patterns, enumerate_patterns_with_control, Pattern, PatternCertificate, PatternInfo,
-    PatternMethod, PatternSettings, Patterns,
+    enumerate_patterns, enumerate_patterns_streaming, enumerate_patterns_with_control, Pattern,
+    PatternCertificate, PatternInfo, PatternMethod, PatternSettings, PatternSink, Patterns,
 };
 pub use problem::{Problem, ProblemError};
 pub use rays::{enumerate, enumerate_with_control, Enumeration, Info, Method, Progress, Settings};

@@ -10,7 +10,12 @@ use common::random_spd;
 use nalgebra::DMatrix;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use wedged::patterns::{enumerate_patterns, PatternMethod, PatternSettings, Patterns};
+use std::sync::atomic::AtomicBool;
+
+use wedged::patterns::{
+    enumerate_patterns, enumerate_patterns_streaming, Pattern, PatternMethod, PatternSettings,
+    Patterns,
+};
 use wedged::{
     enumerate, ContactPattern, Enumeration, Method, NodeStatus, Outcome, Problem, Settings,
 };
@@ -134,20 +139,32 @@ fn search_is_invariant_under_renumbering_flips_and_node_scales() {
     }
 }
 
+/// `pattern-search` through the streaming API (each leaf tested for maximality on its own,
+/// with no filter over the whole answer behind it), its streamed patterns sorted into
+/// `patterns`; checked against the kept run (`enumerate_patterns`, which filters the maximal
+/// ones at the end as well).
 fn pattern_search(problem: &Problem) -> Patterns {
-    let p = enumerate_patterns(
-        problem,
-        &PatternSettings {
-            method: PatternMethod::Search,
-            ..PatternSettings::default()
-        },
-    )
-    .unwrap_or_else(|e| panic!("pattern-search failed: {e}\nK = {}", problem.stiffness()));
+    let settings = PatternSettings {
+        method: PatternMethod::Search,
+        ..PatternSettings::default()
+    };
+    let streamed = std::sync::Mutex::new(Vec::new());
+    let sink = |p: Pattern| streamed.lock().unwrap().push(p);
+    let mut p =
+        enumerate_patterns_streaming(problem, &settings, &|_| {}, &AtomicBool::new(false), &sink)
+            .unwrap_or_else(|e| panic!("pattern-search failed: {e}\nK = {}", problem.stiffness()));
     assert!(
         !matches!(p.outcome, Outcome::Incomplete(_)),
         "pattern-search incomplete: {:?}",
         p.undecided
     );
+    assert!(p.patterns.is_empty());
+    p.patterns = streamed.into_inner().unwrap();
+    p.patterns.sort_by(|a, b| a.pattern.cmp(&b.pattern));
+    assert_eq!(p.info.streamed as usize, p.patterns.len());
+    let kept = enumerate_patterns(problem, &settings).unwrap();
+    assert_eq!(patterns_of(&kept), patterns_of(&p), "streamed and kept");
+    assert_eq!(kept.outcome, p.outcome);
     p
 }
 
@@ -167,7 +184,7 @@ fn patterns_of(p: &Patterns) -> Vec<Vec<ContactPattern>> {
 #[test]
 fn pattern_search_finds_the_cones_of_pruned_dd_on_300_random_instances() {
     let mut rng = ChaCha8Rng::seed_from_u64(4096);
-    let (mut wedged, mut pieces) = (0, 0);
+    let (mut wedged, mut pieces, mut below) = (0, 0, 0);
     for trial in 0..300 {
         let m = 2 + trial % 8;
         let mu = [0.5, 1.0, 1.5, 2.0, 3.0][trial % 5] * rng.gen_range(0.8..1.25);
@@ -183,9 +200,42 @@ fn pattern_search_finds_the_cones_of_pruned_dd_on_300_random_instances() {
         }
         wedged += (found.outcome == Outcome::Wedged) as usize;
         pieces += found.patterns.len();
+        below += found.info.realised - found.info.streamed;
     }
     assert!(wedged > 100 && wedged < 300, "wedged in {wedged} of 300");
     assert!(pieces > 300, "{pieces} pieces in all");
+    // Generic problems have no grazing node, so every leaf's piece is maximal.
+    assert_eq!(below, 0);
+}
+
+/// Problems of independent blocks (separate bodies or contact patches), where a leaf that
+/// presses nodes of some blocks only leaves the other blocks' nodes grazing (their gaps follow
+/// their own block's reactions, all zero): its piece lies in a larger leaf's whenever another
+/// block can wedge on its own, and the maximality test of each leaf must drop it. The streamed
+/// pieces equal pruned-dd's cones.
+#[test]
+fn pattern_search_tests_each_leaf_for_maximality_on_block_problems() {
+    let (mut below, mut pieces, mut kept_grazing) = (0, 0, 0);
+    for trial in 0..40u64 {
+        let b = 1 + (trial % 3) as usize;
+        let m = b * (2 + (trial % 2) as usize);
+        let mu = [1.0, 1.5, 2.0, 3.0][(trial % 4) as usize];
+        let p = wedged::examples::block_spd_problem(m, b, mu, 100 + trial);
+        let rays = run(&p, Method::PrunedDd);
+        let found = pattern_search(&p);
+        let what = format!("trial {trial} (m = {m}, blocks of {b}, mu = {mu})");
+        assert_eq!(cone_patterns(&rays), patterns_of(&found), "{what}");
+        below += found.info.realised - found.info.streamed;
+        pieces += found.patterns.len();
+        kept_grazing += found
+            .patterns
+            .iter()
+            .filter(|q| q.pattern.contains(&ContactPattern::Grazing))
+            .count();
+    }
+    eprintln!("blocks: {pieces} pieces, {kept_grazing} with a grazing node, {below} leaves below another's piece");
+    assert!(below > 20, "{below} leaves below another's piece");
+    assert!(pieces > 40, "{pieces} pieces");
 }
 
 /// The triangle plug of issue 20 at m = 16 (`n = 8`): the same pieces as pruned-dd's cones, from

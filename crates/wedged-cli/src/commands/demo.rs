@@ -57,6 +57,7 @@ pub(crate) fn run_demo(args: DemoArgs) -> Result<(), Failure> {
         "demo",
         Some(&model),
         Outputs {
+            jsonl: None,
             preface: Some(&preface),
             json: Some(&json),
             vtk: Some(dir),

@@ -10,8 +10,10 @@ use super::*;
 use crate::args::*;
 use crate::draw::export;
 use crate::report::answer::{Answer, Choice};
-use crate::report::files::JsonTarget;
+use crate::report::files::{JsonLines, JsonTarget};
+use crate::report::json::pattern_line;
 use crate::report::summary;
+use wedged::PatternSink;
 use wedged_cli::input::problem_file;
 use wedged_cli::jobs::{enumerate, plan_enumerate, EnumerateOptions};
 
@@ -36,6 +38,7 @@ pub(crate) fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
         certify: args.certify,
         exact: args.exact,
         shard: args.shard,
+        stream: args.jsonl.is_some(),
     };
     let choice = plan_enumerate(&problem, &source, &options)?;
     if let Some(shard) = args.shard {
@@ -49,6 +52,16 @@ pub(crate) fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
                 return Err(Failure::Input(format!(
                     "{option} draws the whole answer: draw it from a whole run, not from \
                      --shard {shard}"
+                )));
+            }
+        }
+    }
+    if args.jsonl.is_some() {
+        for (given, option) in [(args.vtk.is_some(), "--vtk"), (args.svg.is_some(), "--svg")] {
+            if given {
+                return Err(Failure::Input(format!(
+                    "{option} draws the pieces, which --jsonl streams to its file and does not \
+                     keep: give one of them"
                 )));
             }
         }
@@ -71,6 +84,7 @@ pub(crate) fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
         Outputs {
             preface: None,
             json: args.json.json.as_deref(),
+            jsonl: args.jsonl.as_deref(),
             vtk: args.vtk.as_deref(),
             svg: args.svg.as_deref(),
             certify: args.certify,
@@ -82,6 +96,8 @@ pub(crate) fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
 pub(crate) struct Outputs<'a> {
     pub(crate) preface: Option<&'a str>,
     pub(crate) json: Option<&'a Path>,
+    /// `--jsonl`: stream the pieces to this file.
+    pub(crate) jsonl: Option<&'a Path>,
     pub(crate) vtk: Option<&'a Path>,
     pub(crate) svg: Option<&'a Path>,
     /// `--certify`: certify a ray method's answer in exact rational arithmetic (a pattern
@@ -101,6 +117,7 @@ pub(crate) fn report(
     let Outputs {
         preface,
         json,
+        jsonl,
         vtk,
         svg,
         certify,
@@ -109,6 +126,15 @@ pub(crate) fn report(
         .map(JsonTarget::open)
         .transpose()
         .map_err(|e| Failure::Input(e.to_string()))?;
+    let lines = jsonl
+        .map(JsonLines::create)
+        .transpose()
+        .map_err(|e| Failure::Input(e.to_string()))?;
+    let write_line = |p: wedged::Pattern| {
+        if let Some(lines) = &lines {
+            lines.write(&pattern_line(&p));
+        }
+    };
     if let Some(dir) = vtk {
         export::prepare_dir(dir, "--vtk", "vtu").map_err(Failure::Input)?;
     }
@@ -122,7 +148,11 @@ pub(crate) fn report(
         certify,
         &INTERRUPTED,
         Show::Terminal,
+        lines.is_some().then_some(&write_line as PatternSink),
     )?;
+    if let Some(lines) = lines {
+        lines.finish().map_err(|e| Failure::Input(e.to_string()))?;
+    }
     let answer = &run.answer;
     let certificate = run.certificate();
     let json_text = json.as_ref().map(|_| run.json(problem, choice, model));
@@ -149,6 +179,9 @@ pub(crate) fn report(
                 stdout_text.push_str(&summary::model(source, model));
             }
             stdout_text.push_str(&summary::render(problem, choice, source, answer, json_path));
+            if let (Some(path), Answer::Patterns(p)) = (jsonl, answer) {
+                stdout_text.push_str(&summary::streamed(p, path));
+            }
             if let Some(c) = &certificate {
                 stdout_text.push_str(&summary::certification(c));
             }
@@ -192,7 +225,7 @@ pub(crate) fn incomplete_text(
         ),
         Answer::Patterns(result) => format!(
             "{source}: {stop} with {} found so far; the result is incomplete",
-            match result.patterns.len() {
+            match result.patterns.len() + result.info.streamed as usize {
                 1 => "1 maximal pattern".to_string(),
                 n => format!("{n} maximal patterns"),
             }

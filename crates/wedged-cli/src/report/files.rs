@@ -89,6 +89,68 @@ fn temp_beside(path: &Path) -> io::Result<NamedTempFile> {
     builder.tempfile_in(dir)
 }
 
+/// The file of `--jsonl`: one line per piece, appended and flushed as each is found (from any
+/// thread), so that it holds every piece found so far whatever stops the run. It is written in
+/// place, not atomically: a reader may watch it grow. A write that fails is remembered and the
+/// rest are skipped; [`JsonLines::finish`] reports it.
+#[derive(Debug)]
+pub struct JsonLines {
+    path: PathBuf,
+    state: std::sync::Mutex<(io::BufWriter<std::fs::File>, Option<io::Error>)>,
+}
+
+impl JsonLines {
+    /// Creates (or truncates) the file now, before the run.
+    pub fn create(path: &Path) -> Result<JsonLines, WriteError> {
+        if path.is_dir() {
+            return Err(WriteError(format!(
+                "{}: is a directory, not a file name for --jsonl",
+                path.display()
+            )));
+        }
+        let file = std::fs::File::create(path).map_err(|e| {
+            WriteError(format!(
+                "{}: cannot write the --jsonl file: {e}",
+                path.display()
+            ))
+        })?;
+        Ok(JsonLines {
+            path: path.to_path_buf(),
+            state: std::sync::Mutex::new((io::BufWriter::new(file), None)),
+        })
+    }
+
+    /// Appends `line` (which ends with a newline) and flushes it.
+    pub fn write(&self, line: &str) {
+        let mut state = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        let (writer, error) = &mut *state;
+        if error.is_none() {
+            if let Err(e) = writer
+                .write_all(line.as_bytes())
+                .and_then(|()| writer.flush())
+            {
+                *error = Some(e);
+            }
+        }
+    }
+
+    /// Flushes the file; the first failed write, if any, as an error naming the file.
+    pub fn finish(self) -> Result<(), WriteError> {
+        let (mut writer, error) = self.state.into_inner().unwrap_or_else(|e| e.into_inner());
+        let fail = |e: io::Error| {
+            WriteError(format!(
+                "{}: cannot write the --jsonl file: {e}",
+                self.path.display()
+            ))
+        };
+        if let Some(e) = error {
+            return Err(fail(e));
+        }
+        writer.flush().map_err(fail)?;
+        writer.get_ref().sync_all().map_err(fail)
+    }
+}
+
 /// A file written atomically after a run (`wedged sweep --svg`): its temporary sibling is created
 /// before the run, so that an unwritable path fails before a long computation, and is renamed
 /// into place by [`PendingFile::commit`] (or removed when dropped uncommitted).

@@ -37,7 +37,9 @@
 //!   `pyramid_faces` (the pyramid's faces, `null` for the other methods) and every field of
 //!   `wedged::PatternInfo` under the same names. A run stopped early (time limit, Ctrl-C) lists
 //!   the patterns it found before the stop: each realised and checked, but others may be
-//!   missing and these may not all be maximal.
+//!   missing and these may not all be maximal. With `--jsonl`, `patterns` is empty: the pieces
+//!   went to that file, one object per line in the form of `patterns[N]`, and `info.streamed`
+//!   counts them.
 //!
 //! `certified` is the result of `--certify`: for a ray method `true` when the rays and cones
 //! passed every check of `wedged::certify` in exact rational arithmetic, for a pattern method
@@ -225,6 +227,26 @@ impl From<&Piece> for PatternJson {
     }
 }
 
+impl From<&wedged::Pattern> for PatternJson {
+    fn from(p: &wedged::Pattern) -> Self {
+        PatternJson {
+            pattern: p.pattern.iter().map(|q| q.name()).collect(),
+            status: p.status.iter().map(|s| s.name()).collect(),
+            u: p.u.clone(),
+            r: p.r.clone(),
+            margin: Some(p.margin),
+        }
+    }
+}
+
+/// One line of `--jsonl`: a pattern as `patterns[N]` of the JSON, compact, with a newline.
+pub fn pattern_line(p: &wedged::Pattern) -> String {
+    let mut line = serde_json::to_string(&PatternJson::from(p))
+        .expect("a pattern of finite numbers serialises");
+    line.push('\n');
+    line
+}
+
 /// A contact set the solver could not decide.
 #[derive(Debug, Serialize)]
 pub struct UndecidedJson<'a> {
@@ -268,6 +290,7 @@ pub struct PatternInfoJson {
     pub uncertain: u64,
     pub near_degenerate: u64,
     pub realised: u64,
+    pub streamed: u64,
     pub bound_tightenings: u64,
     pub lp_solves: u64,
     pub lp_pivots: u64,
@@ -294,6 +317,7 @@ impl PatternInfoJson {
             uncertain,
             near_degenerate,
             realised,
+            streamed,
             bound_tightenings,
             lp_solves,
             lp_pivots,
@@ -316,6 +340,7 @@ impl PatternInfoJson {
             uncertain,
             near_degenerate,
             realised,
+            streamed,
             bound_tightenings,
             lp_solves,
             lp_pivots,
@@ -725,8 +750,8 @@ mod tests {
         assert_eq!(info["method"], "pyramid");
         assert_eq!(info["pyramid_faces"], 12);
         assert_eq!(info["socps"], 7);
-        // method, pyramid_faces, the 18 fields of PatternInfo and peak_rss_bytes.
-        assert_eq!(info.len(), 21, "{info:?}");
+        // method, pyramid_faces, the 19 fields of PatternInfo and peak_rss_bytes.
+        assert_eq!(info.len(), 22, "{info:?}");
     }
 
     #[test]

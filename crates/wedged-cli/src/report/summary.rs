@@ -251,7 +251,8 @@ fn not_wedged(out: &mut String, problem: &Problem) {
 
 /// The outcome, the warnings, the table and the diagnostics of a pattern method.
 fn render_patterns(out: &mut String, problem: &Problem, choice: &Choice, result: &Patterns) {
-    let n = result.patterns.len();
+    // Streamed patterns (`--jsonl`) are counted, not kept.
+    let n = result.patterns.len() + result.info.streamed as usize;
     match result.outcome {
         Outcome::Incomplete(Stop::Undecided) => {
             let _ = writeln!(
@@ -260,6 +261,15 @@ fn render_patterns(out: &mut String, problem: &Problem, choice: &Choice, result:
                  contact sets may be missing",
                 Stop::Undecided,
                 plural(n, "maximal sign pattern was", "maximal sign patterns were")
+            );
+        }
+        Outcome::Incomplete(stop) if n > 0 && is_search(choice) => {
+            // pattern-search tests each leaf's pattern for maximality on its own.
+            let _ = writeln!(
+                out,
+                "INCOMPLETE: {stop}; nothing is claimed about the patterns not reported, and the \
+                 {} found before the stop were each realised, checked and tested maximal",
+                plural(n, "pattern", "patterns")
             );
         }
         Outcome::Incomplete(stop) => {
@@ -295,12 +305,29 @@ fn render_patterns(out: &mut String, problem: &Problem, choice: &Choice, result:
             crate::one_line(&u.reason)
         );
     }
-    if n > 0 {
+    if !result.patterns.is_empty() {
         out.push('\n');
         patterns_table(out, problem, result);
     }
     out.push('\n');
     pattern_info(out, problem, choice, result);
+}
+
+fn is_search(choice: &Choice) -> bool {
+    matches!(choice, Choice::Patterns(s) if s.method == PatternMethod::Search)
+}
+
+/// The line that says where `--jsonl` wrote the pieces.
+pub fn streamed(result: &Patterns, path: &Path) -> String {
+    format!(
+        "{} written to {} as found (one JSON object per line)\n",
+        plural(
+            result.info.streamed as usize,
+            "maximal sign pattern",
+            "maximal sign patterns"
+        ),
+        path.display()
+    )
 }
 
 /// One row per maximal pattern: the widest gap and the margin of its witness, and one status
@@ -386,7 +413,7 @@ fn pattern_info(out: &mut String, problem: &Problem, choice: &Choice, result: &P
         seconds_text(info.seconds),
         crate::report::json::peak_memory_text(),
         plural(info.realised as usize, "pattern", "patterns"),
-        result.patterns.len()
+        result.patterns.len() + info.streamed as usize
     );
     let search = match choice {
         Choice::Patterns(s) if s.method == PatternMethod::Bnb => {

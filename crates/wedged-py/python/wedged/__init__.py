@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import functools
 import json as _json
+import os
 
 # The module defines `enumerate`; the built-in is kept under another name.
 from builtins import enumerate as builtins_enumerate
@@ -309,6 +310,7 @@ def enumerate(
     progress: bool = False,
     rigid_modes: Any = None,
     shard: Any = None,
+    jsonl: Any = None,
 ) -> Enumeration:
     """Every wedged configuration of the condensed stiffness ``K`` at friction ``mu``.
 
@@ -323,6 +325,9 @@ def enumerate(
     ``"i/n"``, run shard ``i`` of ``n`` of the search only (``--shard``; method ``bnb`` or
     ``pattern-search``, the default then in 2D): the pieces of its part of the tree, to be
     combined by :func:`merge` (:mod:`wedged.distributed` does both on a Dask cluster).
+    ``jsonl``: a path; stream the pieces to it, one JSON object per line as each is found
+    (``--jsonl``; a pattern method, ``pattern-search`` by default in 2D): the result then
+    holds none (``info["streamed"]`` counts them), so memory does not grow with their number.
     """
     run = _wedged.enumerate(
         _matrix(K),
@@ -335,6 +340,7 @@ def enumerate(
         progress=bool(progress),
         rigid_modes=_modes(rigid_modes),
         shard=_shard(shard),
+        jsonl=None if jsonl is None else os.fspath(jsonl),
     )
     return Enumeration._from_run(run)
 
@@ -490,6 +496,8 @@ class Problem:
         """As :func:`enumerate`, at the file's ``mu`` unless ``mu`` is given."""
         if "shard" in kw:
             kw["shard"] = _shard(kw["shard"])
+        if kw.get("jsonl") is not None:
+            kw["jsonl"] = os.fspath(kw["jsonl"])
         run = self._loaded.enumerate(mu=_number("mu", mu), **kw)
         return Enumeration._from_run(run, self if self.is_mesh else None)
 

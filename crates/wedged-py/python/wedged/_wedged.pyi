@@ -38,6 +38,7 @@ def enumerate(
     progress: bool = False,
     rigid_modes: Optional[npt.NDArray[np.float64]] = None,
     shard: Optional[str] = None,
+    jsonl: Optional[str] = None,
 ) -> EnumerationRun: ...
 def critical(
     k: npt.NDArray[np.float64],
@@ -73,6 +74,7 @@ class LoadedProblem:
         zero_tol: Optional[float] = None,
         progress: bool = False,
         shard: Optional[str] = None,
+        jsonl: Optional[str] = None,
     ) -> EnumerationRun: ...
     def critical(
         self,

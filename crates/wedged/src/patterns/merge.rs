@@ -166,6 +166,7 @@ fn add_info(sum: &mut PatternInfo, part: &PatternInfo) {
         uncertain,
         near_degenerate,
         realised,
+        streamed,
         bound_tightenings,
         lp_solves,
         lp_pivots,
@@ -185,6 +186,7 @@ fn add_info(sum: &mut PatternInfo, part: &PatternInfo) {
     sum.uncertain += uncertain;
     sum.near_degenerate += near_degenerate;
     sum.realised += realised;
+    sum.streamed += streamed;
     sum.bound_tightenings += bound_tightenings;
     sum.lp_solves += lp_solves;
     sum.lp_pivots += lp_pivots;

@@ -32,7 +32,7 @@ mod pyramid;
 mod search;
 
 use std::fmt;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
 use crate::conic::program::{
@@ -185,6 +185,9 @@ pub struct PatternInfo {
     pub near_degenerate: u64,
     /// Realised patterns found before the maximal ones were kept.
     pub realised: u64,
+    /// Maximal patterns handed to the sink of [`enumerate_patterns_streaming`] (not kept in
+    /// [`Patterns::patterns`]).
+    pub streamed: u64,
     /// Search nodes that bounded their free nodes' drives for the cuts of their subtree
     /// (search).
     pub bound_tightenings: u64,
@@ -240,6 +243,36 @@ pub fn enumerate_patterns_with_control(
     progress: &dyn Fn(Progress),
     cancel: &AtomicBool,
 ) -> Result<Patterns, EnumerateError> {
+    run(problem, settings, progress, cancel, None)
+}
+
+/// Where [`enumerate_patterns_streaming`] hands each maximal pattern (from any thread).
+pub type PatternSink<'a> = &'a (dyn Fn(Pattern) + Sync);
+
+/// [`enumerate_patterns_with_control`] that hands each maximal pattern, witnessed and checked,
+/// to `sink` instead of keeping it: [`Patterns::patterns`] is then empty and
+/// [`PatternInfo::streamed`] counts them. `pattern-search` hands each one on as soon as its
+/// leaf is decided (each leaf is tested for maximality on its own, see `search.rs`), in the
+/// order found, so memory does not grow with the number of pieces; the other methods find
+/// their maximal patterns at the end and hand them on then, sorted. A run that stops early has
+/// handed on the patterns found so far (it is marked incomplete, as without a sink).
+pub fn enumerate_patterns_streaming(
+    problem: &Problem,
+    settings: &PatternSettings,
+    progress: &dyn Fn(Progress),
+    cancel: &AtomicBool,
+    sink: PatternSink,
+) -> Result<Patterns, EnumerateError> {
+    run(problem, settings, progress, cancel, Some(sink))
+}
+
+fn run(
+    problem: &Problem,
+    settings: &PatternSettings,
+    progress: &dyn Fn(Progress),
+    cancel: &AtomicBool,
+    sink: Option<PatternSink>,
+) -> Result<Patterns, EnumerateError> {
     check_zero_tol(settings.zero_tol)?;
     if problem.is_floating() {
         let certify = floating_certify_refusal(problem.dim(), settings.certify);
@@ -288,6 +321,38 @@ pub fn enumerate_patterns_with_control(
         form.checker = Some(Box::new(move |f| checker.check(f)));
     }
     let mut info = PatternInfo::default();
+    // A maximal pattern witnessed (in the search's units), mapped back to the problem's units
+    // and checked there: the reported pattern and the scaled one (for the certificate).
+    let finish_checked = |q: &[ContactPattern]| {
+        finish(&form, q).and_then(|p| {
+            let (u, r) = original.unscale(&scales, &p.u, &p.r);
+            crate::solution::check_solution(original, original.mu(), &u, &r)
+                .map_err(|why| format!("the witness in the problem's own units: {why}"))?;
+            Ok((Pattern { u, r, ..p.clone() }, p))
+        })
+    };
+    let failed = |q: &[ContactPattern], reason: String| Undecided {
+        contact: q.iter().map(|&c| c == ContactPattern::Contact).collect(),
+        reason,
+    };
+    // pattern-search hands on each maximal pattern as it is found: kept for the finishing
+    // step, or witnessed and streamed (certify is refused with pattern-search).
+    let kept = std::sync::Mutex::new(Vec::new());
+    let streamed = AtomicU64::new(0);
+    let unfinished = std::sync::Mutex::new(Vec::new());
+    let emit = |q: Vec<ContactPattern>| match sink {
+        None => kept.lock().expect("no panics while held").push(q),
+        Some(sink) => match finish_checked(&q) {
+            Ok((p, _)) => {
+                streamed.fetch_add(1, Ordering::Relaxed);
+                sink(p)
+            }
+            Err(reason) => unfinished
+                .lock()
+                .expect("no panics while held")
+                .push(failed(&q, reason)),
+        },
+    };
     let found = if control.must_stop(0) {
         Found {
             patterns: Vec::new(),
@@ -299,7 +364,10 @@ pub fn enumerate_patterns_with_control(
             PatternMethod::Bnb => bnb::run(&form, &mut info, settings.shard, progress, &control),
             PatternMethod::Faces => faces::run(&form, &mut info, &control),
             PatternMethod::Search => {
-                search::run(&form, &mut info, settings.shard, progress, &control)
+                let mut found =
+                    search::run(&form, &mut info, settings.shard, progress, &control, &emit);
+                found.patterns = std::mem::take(&mut *kept.lock().expect("no panics while held"));
+                found
             }
             PatternMethod::Pyramid { faces } => pyramid::run(
                 &form,
@@ -311,33 +379,33 @@ pub fn enumerate_patterns_with_control(
             ),
         }
     };
-    info.realised = found.patterns.len() as u64;
+    // pattern-search counts its leaves' patterns itself (maximal or not).
+    info.realised = info.realised.max(found.patterns.len() as u64);
     let shard = found.shard;
     let mut patterns = Vec::new();
     // The witnesses in the units the search ran in, for the certificate.
     let mut scaled = Vec::new();
     let mut undecided = found.undecided;
+    undecided.extend(unfinished.into_inner().unwrap_or_default());
     for q in maximal(found.patterns) {
-        let finished = finish(&form, &q).and_then(|p| {
-            let (u, r) = original.unscale(&scales, &p.u, &p.r);
-            crate::solution::check_solution(original, original.mu(), &u, &r)
-                .map_err(|why| format!("the witness in the problem's own units: {why}"))?;
-            Ok((Pattern { u, r, ..p.clone() }, p))
-        });
-        match finished {
+        match finish_checked(&q) {
             Ok((p, s)) => {
                 patterns.push(p);
                 if settings.certify {
                     scaled.push(s);
                 }
             }
-            Err(reason) => undecided.push(Undecided {
-                contact: q.iter().map(|&c| c == ContactPattern::Contact).collect(),
-                reason,
-            }),
+            Err(reason) => undecided.push(failed(&q, reason)),
         }
     }
     patterns.sort_by(|a, b| a.pattern.cmp(&b.pattern));
+    if let Some(sink) = sink {
+        for p in patterns.drain(..) {
+            streamed.fetch_add(1, Ordering::Relaxed);
+            sink(p);
+        }
+    }
+    info.streamed = streamed.into_inner();
     let c = &form.counters;
     info.socps = Counters::get(&c.socps);
     info.retries = Counters::get(&c.retries);
@@ -347,7 +415,7 @@ pub fn enumerate_patterns_with_control(
         Some(stop) => Outcome::Incomplete(stop),
         // The patterns below an undecided contact set may be missing.
         None if !undecided.is_empty() => Outcome::Incomplete(Stop::Undecided),
-        None if patterns.is_empty() => Outcome::NotWedged,
+        None if patterns.is_empty() && info.streamed == 0 => Outcome::NotWedged,
         None => Outcome::Wedged,
     };
     let certificate = settings.certify.then(|| {

@@ -2,86 +2,135 @@
 //! ([`crate::rays::search::tree`]), without rays.
 //!
 //! The search's leaves are exactly the contact sets `J` that some solution presses exactly
-//! (see the tree's docs); the relative interior of the cone of `J` (contact on `J`, separated
-//! elsewhere) has the pattern: contact on `J`, separated where some solution opens the gap,
-//! grazing where none does, which the leaf's support program ([`ContactLp::support`]) tells.
-//! Every realised pattern is the pattern of the relative interior of its own cone, whose contact
-//! set is a leaf, so the maximal realised patterns are among the leaves' patterns; the common
-//! finishing step keeps the maximal ones and finds each one's witness with Clarabel.
+//! (see the tree's docs); the relative interior of the cone `S_J` of `J` (contact on `J`,
+//! separated elsewhere) has the pattern: contact on `J`, separated where some solution opens
+//! the gap, grazing where none does (the set `G`), which the leaf's support program
+//! ([`ContactLp::support`]) tells. Every realised pattern is the pattern of the relative
+//! interior of its own cone, whose contact set is a leaf, so the maximal realised patterns are
+//! among the leaves' patterns.
+//!
+//! **Each leaf is tested for maximality as it is found**, so that its piece can be handed on
+//! at once (`enumerate --jsonl` streams them; nothing needs to hold every pattern). A pattern
+//! `p` above the leaf's `q` (`F_q ⊆ F_p`, `p != q`) keeps `q`'s contact and separated nodes and
+//! differs on the grazing set `G`; it cannot merely open gaps of `G` (its contact set would be
+//! `J`, and `q` already opens every gap that a solution pressing within `J` can open), so it
+//! presses a node of `G`. Conversely a solution that presses `J` and a node of `G`, keeps
+//! `r = 0` off `J ∪ G` and is complementary on `G` has a pattern above `q`. So the piece is
+//! maximal exactly when the subtree of the search rooted at (`J` contact, `G` free, the rest
+//! separated) has no leaf that presses a node of `G` ([`presses_a_free_node`]; nothing to
+//! search when `G` is empty, as on a generic problem). The test is global: in a sharded run the
+//! larger leaf may be another shard's, and each shard still hands on only maximal pieces.
+//! (A first version asked whether one program with all of `G` shut, `S_{J ∪ G}`, presses a node
+//! of `G`; it kept a piece below one whose pattern opens some gaps of `G` and presses others,
+//! which the block problems of `tests/search.rs` caught.)
 //!
 //! The work is the tree (measured in `info.nodes_visited`, `pruned_infeasible`, `leaves`) and
-//! one support program per leaf: it follows the number of pieces, not of their extreme rays.
+//! one or two support programs per leaf: it follows the number of pieces, not of their extreme
+//! rays.
 
-use std::sync::atomic::Ordering;
-
-use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 
 use super::{Found, PatternInfo, Undecided};
-use crate::conic::contact_lp::{ContactLp, Entry2};
-use crate::conic::program::{leaf_classes, Formulation};
-use crate::rays::search::tree::search;
+use crate::conic::contact_lp::{ContactLp, Entry2, LeafSupport};
+use crate::conic::program::{leaf_classes, Class, Formulation};
+use crate::rays::search::tree::{presses_a_free_node, search};
 use crate::rays::Progress;
 use crate::run::Control;
 use crate::shard::Shard;
 use crate::solution::ContactPattern;
 
+/// Whether some solution presses node `i` (one of its friction edges is in the support).
+fn presses(s: &LeafSupport, i: usize) -> bool {
+    s.positive.contains(&Entry2::Edge(2 * i)) || s.positive.contains(&Entry2::Edge(2 * i + 1))
+}
+
+/// The pattern of a leaf's piece and whether it is maximal; `None` when the leaf's cone is
+/// `{0}` after all (its program was decided the other way), `Err` when a support program cannot
+/// be decided.
+type Piece = Option<(Vec<ContactPattern>, bool)>;
+
+fn leaf_piece(lp: &ContactLp, control: &Control, contact: &[bool]) -> Result<Piece, String> {
+    let m = contact.len();
+    let Some(s) = lp.support(&leaf_classes(contact))? else {
+        return Ok(None);
+    };
+    let pattern: Vec<ContactPattern> = (0..m)
+        .map(|i| {
+            if contact[i] && presses(&s, i) {
+                ContactPattern::Contact
+            } else if s.positive.contains(&Entry2::Gap(i)) {
+                ContactPattern::Separated
+            } else {
+                ContactPattern::Grazing
+            }
+        })
+        .collect();
+    let grazing: Vec<usize> = (0..m)
+        .filter(|&i| pattern[i] == ContactPattern::Grazing)
+        .collect();
+    if grazing.is_empty() {
+        return Ok(Some((pattern, true)));
+    }
+    // Some solution complementary on G that presses a node of G?
+    let classes: Vec<Class> = pattern
+        .iter()
+        .map(|q| match q {
+            ContactPattern::Contact => Class::Contact,
+            ContactPattern::Separated => Class::Separated,
+            ContactPattern::Grazing => Class::Free,
+        })
+        .collect();
+    let above = presses_a_free_node(lp, control, &classes)
+        .map_err(|why| format!("the maximality test: {why}"))?;
+    Ok(Some((pattern, !above)))
+}
+
+/// Runs the search; each maximal pattern goes to `emit` as soon as its leaf is decided (from a
+/// worker thread). The returned [`Found`] holds the undecided leaves only.
 pub(super) fn run(
     form: &Formulation,
     info: &mut PatternInfo,
     shard: Option<Shard>,
     progress: &dyn Fn(Progress),
     control: &Control,
+    emit: &(dyn Fn(Vec<ContactPattern>) + Sync),
 ) -> Found {
-    let m = form.m;
     let lp = ContactLp::new(form);
-    let tree = search(&lp, control, shard, progress);
+    let undecided = Mutex::new(Vec::new());
+    let realised = AtomicU64::new(0);
+    let on_leaf = |contact: Vec<bool>| match leaf_piece(&lp, control, &contact) {
+        Ok(Some((p, maximal))) => {
+            realised.fetch_add(1, Ordering::Relaxed);
+            if maximal {
+                emit(p)
+            }
+        }
+        Ok(None) => {}
+        Err(reason) => undecided
+            .lock()
+            .expect("no panics while held")
+            .push(Undecided {
+                contact,
+                reason: format!("the support program of the contact set: {reason}"),
+            }),
+    };
+    let tree = search(&lp, control, shard, progress, Some(&on_leaf));
     info.nodes_visited = tree.nodes;
     info.nodes_inherited = tree.inherited;
     info.pruned_infeasible = tree.pruned;
-    info.leaves = tree.leaves.len() as u64;
+    info.leaves = tree.found;
     info.bound_tightenings = tree.tightened;
-    let decided: Vec<Result<Option<Vec<ContactPattern>>, String>> = tree
-        .leaves
-        .par_iter()
-        .map(|contact| {
-            let classes = leaf_classes(contact);
-            let support = lp.support(&classes)?;
-            Ok(support.map(|s| {
-                (0..m)
-                    .map(|i| {
-                        let pressed = s.positive.contains(&Entry2::Edge(2 * i))
-                            || s.positive.contains(&Entry2::Edge(2 * i + 1));
-                        if contact[i] && pressed {
-                            ContactPattern::Contact
-                        } else if s.positive.contains(&Entry2::Gap(i)) {
-                            ContactPattern::Separated
-                        } else {
-                            ContactPattern::Grazing
-                        }
-                    })
-                    .collect()
-            }))
-        })
-        .collect();
-    let mut found = Found {
-        patterns: Vec::new(),
-        undecided: Vec::new(),
-        shard: tree.shard,
-    };
+    info.realised = realised.into_inner();
     let counters = &lp.counters;
     info.lp_solves = counters.solves.load(Ordering::Relaxed);
     info.lp_pivots = counters.pivots.load(Ordering::Relaxed);
     info.lp_fallbacks = counters.fallbacks.load(Ordering::Relaxed);
-    for (contact, d) in tree.leaves.iter().zip(decided) {
-        match d {
-            Ok(Some(p)) => found.patterns.push(p),
-            // The leaf's cone is {0} after all (its program was decided the other way).
-            Ok(None) => {}
-            Err(reason) => found.undecided.push(Undecided {
-                contact: contact.clone(),
-                reason: format!("the support program of the contact set: {reason}"),
-            }),
-        }
+    let mut undecided = undecided.into_inner().unwrap_or_default();
+    undecided.sort_by(|a, b| a.contact.cmp(&b.contact));
+    Found {
+        patterns: Vec::new(),
+        undecided,
+        shard: tree.shard,
     }
-    found
 }

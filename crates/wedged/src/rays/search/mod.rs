@@ -43,7 +43,7 @@ pub(crate) fn run(
     let (scaled, scales) = problem.equilibrated();
     let form = Formulation::new(&scaled);
     let lp = ContactLp::new(&form);
-    let tree = tree::search(&lp, control, None, progress);
+    let tree = tree::search(&lp, control, None, progress, None);
     info.search_nodes = tree.nodes;
     info.search_inherited = tree.inherited;
     info.search_pruned = tree.pruned;

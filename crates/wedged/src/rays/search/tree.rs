@@ -57,8 +57,10 @@ const TIGHTEN_PER_DEPTH: usize = 15;
 /// What the search found and what it cost.
 #[derive(Debug, Default)]
 pub(crate) struct Tree {
-    /// The contact sets of the leaves (one flag per node).
+    /// The contact sets of the leaves (one flag per node), unless they were handed on.
     pub leaves: Vec<Vec<bool>>,
+    /// Leaves found (kept or handed on).
+    pub found: u64,
     /// Leaves and search nodes whose program could not be decided (explored as if feasible);
     /// a leaf among them is kept, so nothing is lost, but the run is not certain.
     pub undecided: u64,
@@ -74,16 +76,22 @@ pub(crate) struct Tree {
     pub shard: Option<ShardReport>,
 }
 
+/// What the search does with a leaf's contact set as it finds it (from a worker thread); the
+/// leaves are then not kept in [`Tree::leaves`].
+pub(crate) type OnLeaf<'a> = &'a (dyn Fn(Vec<bool>) + Sync);
+
 /// Searches the contact sets of `lp`'s formulation (both 2D search methods), the whole tree or
 /// `shard`'s part of it ([`crate::shard`]), reporting the explored share (`done` of `total`)
-/// and the leaves found (`rays`) to `progress` from the calling thread.
+/// and the leaves found (`rays`) to `progress` from the calling thread. With `on_leaf`, each
+/// leaf goes there as it is found instead of into [`Tree::leaves`].
 pub(crate) fn search(
     lp: &ContactLp,
     control: &Control,
     shard: Option<Shard>,
     progress: &dyn Fn(Progress),
+    on_leaf: Option<OnLeaf>,
 ) -> Tree {
-    let search = Search::new(lp, control);
+    let search = Search::new(lp, control, on_leaf, vec![Class::Free; lp.form().m]);
     let explored = Explored::new();
     let walk = Walk::new(&search, &explored);
     let report = || {
@@ -97,6 +105,34 @@ pub(crate) fn search(
     let mut tree = search.finish();
     tree.shard = split;
     tree
+}
+
+/// Whether some solution of the cone of `classes` (contact nodes pressed at once, separated ones
+/// with `r = 0`, free ones complementary) presses a free node: the subtree of the search whose
+/// root is `classes` has a leaf with a free node in contact. (The maximality test of a
+/// `pattern-search` leaf, `patterns/search.rs`: its grazing nodes free.) `Err` when a program
+/// of the subtree could not be decided.
+pub(crate) fn presses_a_free_node(
+    lp: &ContactLp,
+    control: &Control,
+    classes: &[Class],
+) -> Result<bool, String> {
+    let free: Vec<usize> = (0..classes.len())
+        .filter(|&i| classes[i] == Class::Free)
+        .collect();
+    let pressed = std::sync::atomic::AtomicBool::new(false);
+    let on_leaf = |leaf: Vec<bool>| {
+        if free.iter().any(|&i| leaf[i]) {
+            pressed.store(true, Ordering::Relaxed);
+        }
+    };
+    let search = Search::new(lp, control, Some(&on_leaf), classes.to_vec());
+    let explored = Explored::new();
+    Walk::new(&search, &explored).run(None);
+    if search.undecided.load(Ordering::Relaxed) > 0 {
+        return Err("a program below the leaf could not be decided".into());
+    }
+    Ok(pressed.into_inner())
 }
 
 /// A search node: the class of every node, a solution of its program handed down by the
@@ -114,23 +150,36 @@ struct Search<'a, 'f> {
     control: &'a Control<'a>,
     m: usize,
     leaves: Mutex<Vec<Vec<bool>>>,
+    /// Where leaves go instead of `leaves`.
+    on_leaf: Option<OnLeaf<'a>>,
+    /// Leaves found (kept or handed on).
+    found: AtomicU64,
     undecided: AtomicU64,
     nodes: AtomicU64,
     inherited: AtomicU64,
     pruned: AtomicU64,
     /// Search nodes above this depth tighten the drive bounds ([`tighten_depth`]).
     tighten_depth: usize,
+    /// The root's classes (every node free, or a subtree's for [`presses_a_free_node`]).
+    root: Vec<Class>,
     tightened: AtomicU64,
 }
 
 impl<'a, 'f> Search<'a, 'f> {
-    fn new(lp: &'a ContactLp<'f>, control: &'a Control<'a>) -> Search<'a, 'f> {
+    fn new(
+        lp: &'a ContactLp<'f>,
+        control: &'a Control<'a>,
+        on_leaf: Option<OnLeaf<'a>>,
+        root: Vec<Class>,
+    ) -> Search<'a, 'f> {
         let m = lp.form().m;
         Search {
             lp,
             control,
             m,
             leaves: Mutex::new(Vec::new()),
+            on_leaf,
+            found: AtomicU64::new(0),
             undecided: AtomicU64::new(0),
             nodes: AtomicU64::new(0),
             inherited: AtomicU64::new(0),
@@ -143,17 +192,19 @@ impl<'a, 'f> Search<'a, 'f> {
                 tighten_depth(m)
             },
             tightened: AtomicU64::new(0),
+            root,
         }
     }
 
     /// Leaves found so far.
     fn leaves_found(&self) -> usize {
-        self.leaves.lock().map_or(0, |l| l.len())
+        self.found.load(Ordering::Relaxed) as usize
     }
 
     fn finish(self) -> Tree {
         Tree {
             leaves: self.leaves.into_inner().unwrap_or_default(),
+            found: self.found.into_inner(),
             undecided: self.undecided.into_inner(),
             nodes: self.nodes.into_inner(),
             inherited: self.inherited.into_inner(),
@@ -206,7 +257,7 @@ impl shard::Tree for Search<'_, '_> {
 
     fn root(&self) -> Node {
         Node {
-            classes: vec![Class::Free; self.m],
+            classes: self.root.clone(),
             inherited: None,
             warm: None,
             drive: None,
@@ -320,7 +371,11 @@ impl shard::Tree for Search<'_, '_> {
         if free.is_empty() {
             let leaf: Vec<bool> = classes.iter().map(|&c| c == Class::Contact).collect();
             if !rehearsal {
-                self.leaves.lock().expect("no panics while held").push(leaf);
+                self.found.fetch_add(1, Ordering::Relaxed);
+                match self.on_leaf {
+                    Some(on_leaf) => on_leaf(leaf),
+                    None => self.leaves.lock().expect("no panics while held").push(leaf),
+                }
             }
             return None;
         }

@@ -1,0 +1,150 @@
+//! `wedged enumerate --jsonl FILE` (issue 20): each maximal sign pattern as one line of JSON as
+//! soon as it is found. The lines are the pieces of `--json` (same patterns, statuses, witnesses
+//! and margins, in the order found) in 2D (`pattern-search`, the default with `--jsonl`) and 3D
+//! (`bnb`); a run stopped by its time limit has written the pieces it reports (exit 3); the
+//! combinations that cannot stream are refused (exit 2, one line).
+
+mod common;
+
+use std::path::Path;
+
+use common::{assert_bad_input, assert_code, text, wedged};
+use serde_json::Value;
+
+fn example(name: &str) -> String {
+    format!("{}/../../examples/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+fn lines(path: &Path) -> Vec<Value> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("each line is one JSON object"))
+        .collect()
+}
+
+/// The patterns, sorted by pattern (the JSON's order).
+fn sorted(mut v: Vec<Value>) -> Vec<Value> {
+    v.sort_by_key(|p| p["pattern"].to_string());
+    v
+}
+
+/// `--jsonl` writes the pieces of `--json`, and `--json` beside it counts them.
+fn streams_the_pieces_of_json(problem: &str, method: &[&str], expected_method: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let (jsonl, json, whole) = (
+        dir.path().join("pieces.jsonl"),
+        dir.path().join("streamed.json"),
+        dir.path().join("whole.json"),
+    );
+    let mut args = vec!["enumerate", problem, "--jsonl", jsonl.to_str().unwrap()];
+    args.extend(["--json", json.to_str().unwrap()]);
+    let out = wedged(&args);
+    assert_code(&out, 0);
+    let mut args = vec!["enumerate", problem, "--json", whole.to_str().unwrap()];
+    args.extend(method);
+    assert_code(&wedged(&args), 0);
+    let streamed = lines(&jsonl);
+    let whole: Value = serde_json::from_str(&std::fs::read_to_string(&whole).unwrap()).unwrap();
+    let pieces = whole["patterns"].as_array().unwrap().clone();
+    assert!(!pieces.is_empty());
+    assert_eq!(sorted(streamed.clone()), sorted(pieces), "{problem}");
+    let doc: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(doc["info"]["method"], expected_method);
+    assert_eq!(doc["patterns"].as_array().unwrap().len(), 0);
+    assert_eq!(doc["info"]["streamed"], streamed.len());
+    assert_eq!(doc["outcome"], "wedged");
+    let summary = text(&out.stdout);
+    let said = format!(
+        "{} maximal sign patterns written to {}",
+        streamed.len(),
+        jsonl.display()
+    );
+    assert!(summary.contains(&said), "{summary}");
+}
+
+#[test]
+fn a_2d_mesh_streams_the_pieces_of_pattern_search() {
+    streams_the_pieces_of_json(
+        &example("plug2d.toml"),
+        &["--method", "pattern-search"],
+        "pattern-search",
+    );
+}
+
+#[test]
+fn a_3d_mesh_streams_the_pieces_of_bnb() {
+    streams_the_pieces_of_json(&example("plug3d.toml"), &[], "bnb");
+}
+
+/// A run stopped by its time limit: exit 3, and the file holds exactly the pieces the summary
+/// counts, each one whole.
+#[test]
+fn a_stopped_run_has_written_what_it_found() {
+    let dir = tempfile::tempdir().unwrap();
+    // The 2D plug with m = 50 takes seconds.
+    let plug = std::fs::read_to_string(example("plug2d.toml"))
+        .unwrap()
+        .replace("nx = 8", "nx = 25")
+        .replace("ny = 6", "ny = 25")
+        .replace("element = \"quad\"", "element = \"tri\"")
+        .replace("mu = 1.8", "mu = 2.0");
+    assert!(
+        plug.contains("nx = 25") && plug.contains("ny = 25"),
+        "{plug}"
+    );
+    let problem = dir.path().join("plug.toml");
+    std::fs::write(&problem, plug).unwrap();
+    let jsonl = dir.path().join("pieces.jsonl");
+    let out = wedged(&[
+        "enumerate",
+        problem.to_str().unwrap(),
+        "--jsonl",
+        jsonl.to_str().unwrap(),
+        "--time-limit",
+        "1",
+    ]);
+    assert_code(&out, 3);
+    let streamed = lines(&jsonl);
+    let summary = text(&out.stdout);
+    assert!(summary.contains("INCOMPLETE"), "{summary}");
+    let said = format!("{} maximal sign pattern", streamed.len());
+    assert!(summary.contains(&said), "{said:?} not in {summary}");
+    assert!(text(&out.stderr).contains("incomplete"));
+}
+
+#[test]
+fn what_cannot_stream_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.jsonl");
+    let (problem, out) = (example("plug2d.toml"), out.to_str().unwrap().to_string());
+    let run = |extra: &[&str]| {
+        let mut args = vec!["enumerate", &problem, "--jsonl", &out];
+        args.extend(extra);
+        wedged(&args)
+    };
+    assert_bad_input(
+        &run(&["--method", "pruned-dd"]),
+        &["--jsonl", "pruned-dd", "rays"],
+    );
+    let vtk = dir.path().join("vtk");
+    assert_bad_input(
+        &run(&["--vtk", vtk.to_str().unwrap()]),
+        &["--vtk", "--jsonl"],
+    );
+    let part = dir.path().join("part.json");
+    assert_bad_input(
+        &run(&["--shard", "1/2", "--json", part.to_str().unwrap()]),
+        &["--jsonl", "--shard 1/2"],
+    );
+    let here = dir.path().to_str().unwrap();
+    assert_bad_input(
+        &wedged(&["enumerate", &problem, "--jsonl", here]),
+        &["is a directory", "--jsonl"],
+    );
+    let missing = dir.path().join("no/such/dir/x.jsonl");
+    assert_bad_input(
+        &wedged(&["enumerate", &problem, "--jsonl", missing.to_str().unwrap()]),
+        &["cannot write the --jsonl file"],
+    );
+}
