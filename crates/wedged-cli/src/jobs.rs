@@ -418,8 +418,9 @@ pub fn progress_text(choice: &Choice, p: Progress, seconds: f64) -> String {
             method: PatternMethod::Bnb | PatternMethod::Search,
             ..
         }) => format!(
-            "explored {:.1}% of the search tree, {} found, {seconds:.1} s{}",
+            "explored {:.1}% of the search tree{}, {} found, {seconds:.1} s{}",
             100.0 * share,
+            tree_size(p.nodes, share),
             count(p.rays, "pattern", "patterns"),
             time_left(share, seconds)
         ),
@@ -427,8 +428,9 @@ pub fn progress_text(choice: &Choice, p: Progress, seconds: f64) -> String {
             method: Method::Search,
             ..
         }) => format!(
-            "explored {:.1}% of the search tree, {} found, {seconds:.1} s{}",
+            "explored {:.1}% of the search tree{}, {} found, {seconds:.1} s{}",
             100.0 * share,
+            tree_size(p.nodes, share),
             count(p.rays, "contact set", "contact sets"),
             time_left(share, seconds)
         ),
@@ -446,6 +448,27 @@ pub fn progress_text(choice: &Choice, p: Progress, seconds: f64) -> String {
 /// `", about T left"` for a search that has explored `share` of its tree in `seconds`, at the
 /// same pace (the share counts each finished subtree at depth `d` as `2^-d` of the tree, so the
 /// estimate is rough while a few deep subtrees dominate); empty before 0.1% is explored.
+/// The nodes visited and the estimated size of the whole tree, `nodes / share` (see
+/// [`Progress::nodes`]), once a thousandth of it is explored.
+fn tree_size(nodes: u64, share: f64) -> String {
+    if nodes == 0 {
+        return String::new();
+    }
+    let visited = format!(" ({nodes} nodes");
+    if !(1e-3..1.0).contains(&share) {
+        return format!("{visited})");
+    }
+    let total = nodes as f64 / share;
+    let about = if total < 1e4 {
+        format!("{total:.0}")
+    } else if total < 1e7 {
+        format!("{:.0}k", total / 1e3)
+    } else {
+        format!("{:.1e}", total)
+    };
+    format!("{visited} of about {about})")
+}
+
 fn time_left(share: f64, seconds: f64) -> String {
     if !(1e-3..1.0).contains(&share) {
         return String::new();

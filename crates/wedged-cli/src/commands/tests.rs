@@ -51,12 +51,16 @@ fn progress_lines_name_what_they_count() {
         done: 372,
         total: 1000,
         rays: 5,
+        nodes: 7065,
     };
     let bnb = Choice::Patterns(PatternSettings::default());
     assert_eq!(
         progress_text(&bnb, p, 3.42),
-        "explored 37.2% of the search tree, 5 patterns found, 3.4 s, about 6 s left"
+        "explored 37.2% of the search tree (7065 nodes of about 19k), 5 patterns found, \
+         3.4 s, about 6 s left"
     );
+    let p = Progress { nodes: 70650, ..p };
+    assert!(progress_text(&bnb, p, 3.42).contains("(70650 nodes of about 190k)"));
     let search = Choice::Rays(Settings {
         method: Method::Search,
         ..Settings::default()
@@ -67,11 +71,13 @@ fn progress_lines_name_what_they_count() {
             Progress {
                 done: 1,
                 total: 1000,
-                rays: 1
+                rays: 1,
+                nodes: 20,
             },
             360.0
         ),
-        "explored 0.1% of the search tree, 1 contact set found, 360.0 s, about 99.9 h left"
+        "explored 0.1% of the search tree (20 nodes of about 20k), 1 contact set found, \
+         360.0 s, about 99.9 h left"
     );
     assert_eq!(
         progress_text(
@@ -79,17 +85,19 @@ fn progress_lines_name_what_they_count() {
             Progress {
                 done: 0,
                 total: 1000,
-                rays: 0
+                rays: 0,
+                nodes: 3,
             },
             2.0
         ),
-        "explored 0.0% of the search tree, 0 contact sets found, 2.0 s"
+        "explored 0.0% of the search tree (3 nodes), 0 contact sets found, 2.0 s"
     );
     let rays = Choice::Rays(Settings::default());
     let p = Progress {
         done: 3,
         total: 12,
         rays: 40,
+        nodes: 0,
     };
     assert_eq!(
         progress_text(&rays, p, 1.0),

@@ -229,6 +229,7 @@ pub(super) fn run(
             done: (explored.fraction() * 1000.0).round() as usize,
             total: 1000,
             rays: search.found.lock().map_or(0, |f| f.len()),
+            nodes: search.visited.load(Ordering::Relaxed),
         });
     };
     let split = crate::run::with_progress(|| walk.run(shard), report);

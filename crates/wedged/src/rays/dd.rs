@@ -573,6 +573,7 @@ pub(crate) fn run(
             done: processed.len(),
             total: m,
             rays: rays.len(),
+            nodes: 0,
         });
     }
 

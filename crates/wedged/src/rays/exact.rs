@@ -483,6 +483,7 @@ pub(crate) fn run(
                 done: i + 1,
                 total: m,
                 rays: rays.len(),
+                nodes: 0,
             });
         }
     }

@@ -219,4 +219,10 @@ pub struct Progress {
     pub total: usize,
     /// Rays held now.
     pub rays: usize,
+    /// Search nodes visited so far (the searches over contact sets; 0 for the double
+    /// descriptions). With the explored share `done / total` (each finished subtree counts
+    /// `2^-depth` of the tree) it estimates the whole tree: `nodes / share`, the weighted
+    /// backtrack estimator of Kilby et al. (2006), Knuth's estimator averaged over the paths
+    /// the search has taken.
+    pub nodes: u64,
 }

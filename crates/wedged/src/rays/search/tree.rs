@@ -99,6 +99,7 @@ pub(crate) fn search(
             done: (explored.fraction() * 1000.0).round() as usize,
             total: 1000,
             rays: search.leaves_found(),
+            nodes: search.nodes.load(Ordering::Relaxed),
         })
     };
     let split = with_progress(|| walk.run(shard), report);
