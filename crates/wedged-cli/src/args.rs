@@ -218,8 +218,10 @@ pub(crate) struct EnumerateArgs {
     /// Friction coefficient, overriding the file's `mu`.
     #[arg(long, value_name = "MU", allow_negative_numbers = true)]
     pub(crate) mu: Option<f64>,
-    /// Algorithm [default: pruned-dd for a 2D problem, pattern-search for a 2D floating body
-    /// or with --shard, bnb for a 3D one]. The ray methods
+    /// Algorithm [default: pruned-dd for a 2D problem of up to 12 contact nodes;
+    /// pattern-search for a larger one (its extreme rays are out of reach there: the pieces
+    /// with a witness each instead; bnb with --certify), for a floating body, with --shard or
+    /// --jsonl; bnb for a 3D one]. The ray methods
     /// (pruned-dd, full-dd, faces, exact, search) list the complementary extreme rays and the
     /// cones of a 2D problem; the pattern methods (bnb, pyramid, pattern-faces, pattern-search) list the maximal sign patterns
     /// (the convex pieces, each with a witness) of a 2D or 3D problem.

@@ -118,6 +118,15 @@ pub struct EnumerateOptions {
     pub stream: bool,
 }
 
+/// The most contact nodes of a 2D problem (clamped, not sharded or streamed) for which
+/// `enumerate` lists the extreme rays by default (`pruned-dd`); above it the default is
+/// `pattern-search` (the pieces with a witness each; `bnb` with `--certify`). Measured on the
+/// triangle plug (whole process, pruned-dd against pattern-search): m = 12 0.02 s against
+/// 0.01 s, m = 14 0.11 s against 0.01 s, m = 16 0.99 s against 0.02 s, m = 18 7.1 s against
+/// 0.03 s, m = 20 264 s against 0.04 s: the rays' double description grows about 7x per two
+/// nodes there, the search with the pieces.
+pub const RAYS_DEFAULT_MAX_NODES: usize = 12;
+
 /// The method and settings that `options` ask for on `problem` (`source` names the problem in
 /// messages), or why they cannot run.
 pub fn plan_enumerate(
@@ -162,8 +171,16 @@ pub fn plan_enumerate(
         // Shards split a search tree, and a floating body's pieces are sign patterns (the ray
         // methods are for clamped bodies): the contact-set search of the pieces in 2D.
         // With --certify, bnb: its decisions are kept for the exact check.
+        // Above RAYS_DEFAULT_MAX_NODES the extreme rays are out of reach (pruned-dd's
+        // intermediate rays explode) and the pieces are what a run can give.
         None if problem.dim() == 2
-            && (options.shard.is_some() || problem.is_floating() || options.stream) =>
+            && (options.shard.is_some()
+                || problem.is_floating()
+                || options.stream
+                || (problem.nodes() > RAYS_DEFAULT_MAX_NODES
+                    // A bound on the rays held asks for a ray method.
+                    && options.max_rays.is_none()
+                    && options.max_memory.is_none())) =>
         {
             MethodArg::Patterns(if options.certify {
                 PatternMethod::Bnb

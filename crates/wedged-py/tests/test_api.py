@@ -88,16 +88,17 @@ def test_certify_and_methods():
 def test_a_time_limit_gives_an_incomplete_answer(tmp_path):
     problem = wedged.load(plug_toml(tmp_path, 10))
     start = time.perf_counter()
-    result = problem.enumerate(time_limit=0.3)
+    # pruned-dd: the rays of m = 20 take minutes (the default there, pattern-search, 0.04 s).
+    result = problem.enumerate(method="pruned-dd", time_limit=0.3)
     assert time.perf_counter() - start < 10
     assert result.complete is False and "time limit" in result.stopped
 
 
 def test_progress_draws_the_command_line(tmp_path, capfd):
     problem = wedged.load(plug_toml(tmp_path, 10))
-    problem.enumerate(time_limit=2.5, progress=True)
+    problem.enumerate(method="pruned-dd", time_limit=2.5, progress=True)
     assert "rays held" in capfd.readouterr().err
-    problem.enumerate(time_limit=2.5)
+    problem.enumerate(method="pruned-dd", time_limit=2.5)
     assert capfd.readouterr().err == ""
 
 
@@ -107,14 +108,16 @@ def test_ctrl_c_raises_keyboard_interrupt(tmp_path):
     start = time.perf_counter()
     timer.start()
     with pytest.raises(KeyboardInterrupt):
-        problem.enumerate(time_limit=60)
+        problem.enumerate(method="pruned-dd", time_limit=60)
     timer.join()
     assert time.perf_counter() - start < 10
 
 
 def test_the_gil_is_released(tmp_path):
     problem = wedged.load(plug_toml(tmp_path, 10))
-    worker = threading.Thread(target=problem.enumerate, kwargs={"time_limit": 1.0})
+    worker = threading.Thread(
+        target=problem.enumerate, kwargs={"method": "pruned-dd", "time_limit": 1.0}
+    )
     worker.start()
     time.sleep(0.1)
     counted, end = 0, time.perf_counter() + 0.5
