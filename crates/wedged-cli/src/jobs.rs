@@ -597,9 +597,15 @@ pub fn critical_progress_text(p: CriticalProgress, seconds: f64) -> String {
         Some(mu) => format!("best mu {}", crate::report::sig4(mu)),
         None => "no wedged configuration yet".to_string(),
     };
+    let share = p.explored.clamp(0.0, 1.0);
+    let pass = match p.bar {
+        Some(bar) => format!("pass at mu <= {}: ", crate::report::sig4(bar)),
+        None => String::new(),
+    };
     format!(
-        "explored {:.1}%, {best}, {seconds:.1} s",
-        100.0 * p.explored.clamp(0.0, 1.0)
+        "{pass}explored {:.1}%{}, {best}, {seconds:.1} s",
+        100.0 * share,
+        tree_size(p.nodes, share)
     )
 }
 

@@ -147,14 +147,27 @@ fn critical_progress_names_the_best_mu() {
     let p = CriticalProgress {
         explored: 0.372,
         upper: Some(1.23456),
+        nodes: 0,
+        bar: None,
     };
     assert_eq!(
         critical_progress_text(p, 3.42),
         "explored 37.2%, best mu 1.235, 3.4 s"
     );
     let p = CriticalProgress {
+        nodes: 7065,
+        bar: Some(2.5),
+        ..p
+    };
+    assert_eq!(
+        critical_progress_text(p, 3.42),
+        "pass at mu <= 2.5: explored 37.2% (7065 nodes of about 19k), best mu 1.235, 3.4 s"
+    );
+    let p = CriticalProgress {
         explored: 0.0,
         upper: None,
+        nodes: 0,
+        bar: None,
     };
     assert_eq!(
         critical_progress_text(p, 1.0),

@@ -426,11 +426,19 @@ pub(super) fn run(
         lp: LpCounters::default(),
     };
     let explored = Explored::new();
+    // The nodes visited before the present pass.
+    let before = AtomicU64::new(0);
     let report = || {
         let best = search.incumbent();
+        let bar = f64::from_bits(search.bar.load(Ordering::Relaxed));
         progress(CriticalProgress {
             explored: explored.fraction(),
             upper: best.is_finite().then_some(best),
+            nodes: search
+                .visited
+                .load(Ordering::Relaxed)
+                .saturating_sub(before.load(Ordering::Relaxed)),
+            bar: bar.is_finite().then_some(bar),
         });
     };
     // A pass per bar; each shard's passes split their trees alike (see `crate::shard`: the
@@ -440,6 +448,7 @@ pub(super) fn run(
             let mut split = None;
             for bar in bars(ctx.form.mu) {
                 search.bar.store(bar.to_bits(), Ordering::Relaxed);
+                before.store(search.visited.load(Ordering::Relaxed), Ordering::Relaxed);
                 explored.reset();
                 split = Walk::new(&search, &explored).run(shard);
                 let found = search.best.lock().map_or(true, |b| b.is_some());

@@ -48,6 +48,8 @@ pub(super) fn run(
         progress(CriticalProgress {
             explored: 0.0,
             upper: None,
+            nodes: 0,
+            bar: None,
         });
         let (outcome, found) = if problem.dim() == 2 && !problem.is_floating() {
             let e = enumerate_with_control(
@@ -132,6 +134,8 @@ pub(super) fn run(
         progress(CriticalProgress {
             explored: k as f64 / total as f64,
             upper: found.best.as_ref().map(|b| b.theta),
+            nodes: 0,
+            bar: None,
         });
         // The leaf of the zero-gap nodes.
         let contact: Vec<bool> = q.iter().map(|&c| c != ContactPattern::Separated).collect();

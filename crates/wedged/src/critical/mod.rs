@@ -278,10 +278,16 @@ pub struct Critical {
 /// Where a running search is.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CriticalProgress {
-    /// The explored fraction of the search, in `[0, 1]`.
+    /// The explored fraction of the search, in `[0, 1]` (of the present pass, for `bnb`).
     pub explored: f64,
     /// The best friction coefficient with a witness so far.
     pub upper: Option<f64>,
+    /// `bnb`: the search nodes visited in the present pass (0 for the other methods); with
+    /// `explored` an estimate of the pass's tree, as in [`crate::Progress::nodes`].
+    pub nodes: u64,
+    /// `bnb`: the bar of the present pass, when it is finite (the pass tests every node at
+    /// `min(bar, best (1 - tol))`).
+    pub bar: Option<f64>,
 }
 
 /// Computes the critical friction coefficient of a 2D or 3D problem. The problem's own `mu` is a
