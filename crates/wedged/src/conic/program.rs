@@ -16,9 +16,9 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 
 use crate::conic::socp::{solve, Affine, Answer, Program};
-
-mod support;
 use crate::problem::Problem;
+mod split;
+mod support;
 
 /// An entry is positive when it can reach this value, with `sum r_n = 1` and gaps scaled as in
 /// the module docs. Below it an entry counts as zero: the resolution of the method, a hundred

@@ -92,15 +92,7 @@ impl Lp {
     fn total(&self) -> usize {
         self.n + self.rows
     }
-}
 
-impl Drop for Lp {
-    fn drop(&mut self) {
-        pool::recycle(std::mem::take(&mut self.a));
-    }
-}
-
-impl Lp {
     /// Entry `k` of column `j` of `[A  -I]`.
     fn entry(&self, k: usize, j: usize) -> f64 {
         if j < self.n {
@@ -125,6 +117,12 @@ impl Lp {
             }
         }
         out
+    }
+}
+
+impl Drop for Lp {
+    fn drop(&mut self) {
+        pool::recycle(std::mem::take(&mut self.a));
     }
 }
 

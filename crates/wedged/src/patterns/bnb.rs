@@ -56,20 +56,13 @@ impl shard::Tree for Search<'_, '_> {
     /// The problem and `mu` make every decision (not with `--certify`, whose refutations are
     /// recorded as they are made).
     fn split_key(&self) -> Option<u64> {
-        if self.form.refutations.is_some() || self.form.checker.is_some() {
-            return None;
-        }
-        Some(crate::problem::digest(&[
-            0xb4b_5ea4c, // this tree
-            self.form.problem.fingerprint(),
-            self.form.mu.to_bits(),
-        ]))
+        self.form.split_key(0xb4b_5ea4c, &[])
     }
 
     fn alarms(&self) -> u64 {
-        let doubts = self.form.doubts.lock().map_or(1, |d| d.len() as u64);
-        let stopped = u64::from(self.control.stopped().is_some());
-        Counters::get(&self.form.counters.uncertain) + doubts + stopped
+        let uncertain = Counters::get(&self.form.counters.uncertain);
+        self.form
+            .alarms(uncertain, self.control.stopped().is_some())
     }
 
     fn is_leaf(&self, node: &Node) -> bool {

@@ -227,22 +227,16 @@ impl shard::Tree for Search<'_, '_> {
     /// The problem, `mu` and the tightening depth make every decision (not with `--certify`,
     /// whose refutations are recorded as they are made).
     fn split_key(&self) -> Option<u64> {
-        let form = self.lp.form();
-        if form.refutations.is_some() || form.checker.is_some() {
-            return None;
-        }
-        Some(crate::problem::digest(&[
-            0x2d5e_a4c8, // this tree
-            form.problem.fingerprint(),
-            form.mu.to_bits(),
-            self.tighten_depth as u64,
-        ]))
+        self.lp
+            .form()
+            .split_key(0x2d5e_a4c8, &[self.tighten_depth as u64])
     }
 
     fn alarms(&self) -> u64 {
-        let doubts = self.lp.form().doubts.lock().map_or(1, |d| d.len() as u64);
-        let stopped = u64::from(self.control.stopped().is_some());
-        self.undecided.load(Ordering::Relaxed) + doubts + stopped
+        let undecided = self.undecided.load(Ordering::Relaxed);
+        self.lp
+            .form()
+            .alarms(undecided, self.control.stopped().is_some())
     }
 
     fn shelve(&self, node: Node) -> Node {
