@@ -1030,6 +1030,7 @@ fn check_critical_keys(report: &Value) {
         "pruned_infeasible",
         "leaves_solved",
         "bound_tightenings",
+        "mirrored",
         "simplex_solves",
         "simplex_fallbacks",
         "dinkelbach_steps",
@@ -1047,7 +1048,7 @@ fn check_critical_keys(report: &Value) {
     ] {
         assert!(info.contains_key(key), "missing info.{key}: {info:?}");
     }
-    assert_eq!(info.len(), 19, "{info:?}");
+    assert_eq!(info.len(), 20, "{info:?}");
 }
 
 /// One node with `K_nn = 2, K_nt = 1, K_tt = 1`: `mu* = K_tt / |K_nt| = 1`.

@@ -124,6 +124,11 @@ pub enum ProblemError {
 /// digits still does.
 pub const RIGID_TOLERANCE: f64 = 1e-7;
 
+/// How far, relative to the largest entry of `K`, [`Problem::mirror`] lets mirrored entries
+/// differ: round-off of assembling and condensing a mirror mesh in another order (about
+/// `1e-15`), far below any physical asymmetry.
+pub const MIRROR_TOL: f64 = 1e-10;
+
 /// A validated wedged problem: `dim`, the symmetric positive definite `K` (in local node frames)
 /// and `mu`.
 #[derive(Debug, Clone)]
@@ -397,6 +402,51 @@ impl Problem {
             .chain(std::iter::once(self.rigid.ncols() as u64))
             .chain(self.rigid.iter().map(|x| x.to_bits()));
         digest_of(words)
+    }
+
+    /// A mirror symmetry of a 2D problem (a body symmetric about a plane, in a symmetric
+    /// obstacle): an involution `s` of the nodes, not the identity, under which `K` is
+    /// invariant with every image's tangent reversed (as a reflection reverses it):
+    /// `K[s(i), s(j)] = D K[i, j] D` for every pair of nodes, `D = diag(1, -1)`, within
+    /// [`MIRROR_TOL`] of the largest entry of `K` (a mirror mesh is assembled in another order,
+    /// so its `K` is symmetric to round-off only). A solution's mirror image (node `s(i)`
+    /// taking node `i`'s state, tangents reversed) is then a solution with the same friction
+    /// ratios. Images are found by the nodes' own blocks (`K_nn`, `K_tt` equal, `K_nt`
+    /// opposite); `None` when some node has more than one candidate or the whole of `K` does
+    /// not match.
+    pub fn mirror(&self) -> Option<Vec<usize>> {
+        if self.dim != 2 {
+            return None;
+        }
+        let (k, m) = (&self.k, self.nodes());
+        let tol = MIRROR_TOL * k.amax();
+        let same = |a: f64, b: f64| (a - b).abs() <= tol;
+        let image_of = |i: usize, j: usize| {
+            same(k[(2 * j, 2 * j)], k[(2 * i, 2 * i)])
+                && same(k[(2 * j + 1, 2 * j + 1)], k[(2 * i + 1, 2 * i + 1)])
+                && same(k[(2 * j, 2 * j + 1)], -k[(2 * i, 2 * i + 1)])
+        };
+        let mut s = Vec::with_capacity(m);
+        for i in 0..m {
+            let others: Vec<usize> = (0..m).filter(|&j| j != i && image_of(i, j)).collect();
+            match others[..] {
+                [j] => s.push(j),
+                [] if image_of(i, i) => s.push(i),
+                _ => return None,
+            }
+        }
+        let involution = (0..m).all(|i| s[s[i]] == i);
+        if !involution || (0..m).all(|i| s[i] == i) {
+            return None;
+        }
+        let sign = |a: usize| if a % 2 == 1 { -1.0 } else { 1.0 };
+        let invariant = (0..2 * m).all(|a| {
+            (0..2 * m).all(|b| {
+                let (sa, sb) = (2 * s[a / 2] + a % 2, 2 * s[b / 2] + b % 2);
+                same(k[(sa, sb)], sign(a) * sign(b) * k[(a, b)])
+            })
+        });
+        invariant.then_some(s)
     }
 
     /// The (symmetrised) stiffness `K`, `dim*m` square.

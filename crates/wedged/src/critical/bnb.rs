@@ -92,6 +92,10 @@ struct Search<'a, 'b, 'c> {
     tightened: AtomicU64,
     /// The simplex method's counts (the programs of a search with drive cuts).
     lp: LpCounters,
+    /// The problem's mirror symmetry ([`crate::Problem::mirror`]), not in a certified run.
+    mirror: Option<Vec<usize>>,
+    /// Branchings that separated a mirror image too.
+    mirrored: AtomicU64,
 }
 
 impl Search<'_, '_, '_> {
@@ -361,10 +365,22 @@ impl Search<'_, '_, '_> {
                     .unwrap_or(free[0])
             }
         };
+        // Orbital branching: at a node whose classes the mirror keeps, a solution with the
+        // branch node separated and its image in contact has a mirror image (the same friction
+        // ratios, in this node's subtree) with the branch node in contact, which the first child
+        // holds; so the second child separates the image too.
+        let image = self.mirror.as_ref().and_then(|s| {
+            let kept = s.iter().enumerate().all(|(i, &j)| classes[j] == classes[i]);
+            (kept && s[branch] != branch).then_some(s[branch])
+        });
         let mut to_contact = classes.clone();
         to_contact[branch] = Class::Contact;
         let mut to_separated = classes;
         to_separated[branch] = Class::Separated;
+        if let Some(image) = image {
+            to_separated[image] = Class::Separated;
+            self.mirrored.fetch_add(1, Ordering::Relaxed);
+        }
         (
             Node {
                 classes: to_contact,
@@ -424,6 +440,13 @@ pub(super) fn run(
         cut: ctx.form.refutations.is_none() && ctx.form.dim == 2 && ctx.form.modes == 0,
         tightened: AtomicU64::new(0),
         lp: LpCounters::default(),
+        // Not in a certified run: the subtrees it skips have no refutation to check.
+        mirror: if ctx.form.refutations.is_none() {
+            ctx.form.problem.mirror()
+        } else {
+            None
+        },
+        mirrored: AtomicU64::new(0),
     };
     let explored = Explored::new();
     // The nodes visited before the present pass.
@@ -464,6 +487,7 @@ pub(super) fn run(
     info.pruned_infeasible = search.pruned.into_inner();
     info.leaves_solved = search.leaves.into_inner();
     info.bound_tightenings = search.tightened.into_inner();
+    info.mirrored = search.mirrored.into_inner();
     info.simplex_solves = search.lp.solves.into_inner();
     info.simplex_fallbacks = search.lp.fallbacks.into_inner();
     let best = search.best.into_inner().unwrap_or(None);

@@ -105,6 +105,7 @@ fn add_info(sum: &mut CriticalInfo, part: &CriticalInfo) {
         pruned_infeasible,
         leaves_solved,
         bound_tightenings,
+        mirrored,
         simplex_solves,
         simplex_fallbacks,
         dinkelbach_steps,
@@ -123,6 +124,7 @@ fn add_info(sum: &mut CriticalInfo, part: &CriticalInfo) {
     sum.pruned_infeasible += pruned_infeasible;
     sum.leaves_solved += leaves_solved;
     sum.bound_tightenings += bound_tightenings;
+    sum.mirrored += mirrored;
     sum.simplex_solves += simplex_solves;
     sum.simplex_fallbacks += simplex_fallbacks;
     sum.dinkelbach_steps += dinkelbach_steps;
