@@ -37,7 +37,7 @@ use wedged_cli::jobs::{
 use wedged_cli::one_line;
 use wedged_cli::report::answer::Choice;
 use wedged_cli::report::files::JsonLines;
-use wedged_cli::report::json::{pattern_line, Header, Report};
+use wedged_cli::report::json::{Header, Report};
 use wedged_cli::report::merge::Part;
 
 create_exception!(
@@ -224,11 +224,7 @@ fn enumerate_run(
         .map(JsonLines::create)
         .transpose()
         .map_err(|e| InputError::new_err(e.to_string()))?;
-    let write_line = |p: wedged::Pattern| {
-        if let Some(lines) = &lines {
-            lines.write(&pattern_line(&p));
-        }
-    };
+    let write_line = |p: wedged::Pattern| lines.iter().for_each(|l| l.write_pattern(&p));
     let (run, library_seconds) = released(py, |cancel| {
         let start = Instant::now();
         let run = jobs::enumerate(

@@ -11,7 +11,6 @@ use crate::args::*;
 use crate::draw::export;
 use crate::report::answer::{Answer, Choice};
 use crate::report::files::{JsonLines, JsonTarget};
-use crate::report::json::pattern_line;
 use crate::report::summary;
 use wedged::PatternSink;
 use wedged_cli::input::problem_file;
@@ -130,11 +129,7 @@ pub(crate) fn report(
         .map(JsonLines::create)
         .transpose()
         .map_err(|e| Failure::Input(e.to_string()))?;
-    let write_line = |p: wedged::Pattern| {
-        if let Some(lines) = &lines {
-            lines.write(&pattern_line(&p));
-        }
-    };
+    let write_line = |p: wedged::Pattern| lines.iter().for_each(|l| l.write_pattern(&p));
     if let Some(dir) = vtk {
         export::prepare_dir(dir, "--vtk", "vtu").map_err(Failure::Input)?;
     }

@@ -120,6 +120,11 @@ impl JsonLines {
         })
     }
 
+    /// Appends a pattern as one line ([`crate::report::json::pattern_line`]).
+    pub fn write_pattern(&self, p: &wedged::Pattern) {
+        self.write(&crate::report::json::pattern_line(p));
+    }
+
     /// Appends `line` (which ends with a newline) and flushes it.
     pub fn write(&self, line: &str) {
         let mut state = self.state.lock().unwrap_or_else(|e| e.into_inner());
