@@ -16,7 +16,7 @@ use wedged::{ContactPattern, Enumeration, NodeStatus, Outcome, Problem, Stop};
 use crate::report::answer::{Answer, Certified, Choice};
 
 use crate::report::sig4;
-use info::info_line;
+use info::{info_line, linear_programs};
 
 /// Contact nodes listed one per line in the model summary; beyond, the JSON has them.
 const CONTACT_LIST_LIMIT: usize = 24;
@@ -430,9 +430,18 @@ fn pattern_info(out: &mut String, problem: &Problem, choice: &Choice, result: &P
                     power_of_two(m + 1, 1)
                 ),
             };
+            // Inner nodes by the simplex method (not in a certified run; in 3D on a polygon's
+            // cone that holds the friction cone), leaves by the cone program.
+            let programs = match info.lp_solves {
+                0 => String::new(),
+                _ => format!(
+                    "; inner nodes by {}",
+                    linear_programs(info.lp_solves, info.lp_pivots, info.lp_fallbacks)
+                ),
+            };
             format!(
                 "branch and bound: {} visited, {} pruned (infeasible) + {} pruned (a contact node \
-                 could not be pressed), {} reached of 2^{m} = {}; {fraction}",
+                 could not be pressed), {} reached of 2^{m} = {}; {fraction}{programs}",
                 plural(info.nodes_visited as usize, "node", "nodes"),
                 info.pruned_infeasible,
                 info.pruned_unpressed,
@@ -458,17 +467,14 @@ fn pattern_info(out: &mut String, problem: &Problem, choice: &Choice, result: &P
         Choice::Patterns(s) if s.method == PatternMethod::Search => format!(
             "contact-set search: {} visited, {} pruned (no solution presses the contact nodes \
              at once), {} inherited their parent's solution, {} bounded the drives of their \
-             free nodes, {} (contact sets pressed exactly) of 2^{m} = {}; {} ({} pivots, {} \
-             passed to Clarabel)",
+             free nodes, {} (contact sets pressed exactly) of 2^{m} = {}; {}",
             plural(info.nodes_visited as usize, "node", "nodes"),
             info.pruned_infeasible,
             info.nodes_inherited,
             info.bound_tightenings,
             plural(info.leaves as usize, "leaf", "leaves"),
             power_of_two(m, 0),
-            plural(info.lp_solves as usize, "linear program", "linear programs"),
-            info.lp_pivots,
-            info.lp_fallbacks,
+            linear_programs(info.lp_solves, info.lp_pivots, info.lp_fallbacks),
         ),
         _ => format!(
             "brute force: {} of the 2^{m} - 1 = {} nonempty contact sets have a nontrivial cone",

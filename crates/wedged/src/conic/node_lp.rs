@@ -1,13 +1,21 @@
-//! The 2D search node over contact sets (`critical`'s `bnb` and the enumeration's
-//! `rays/search`) as a linear program for the in-house simplex method ([`super::simplex`]),
-//! warm-started from the parent's basis.
+//! The search node over contact sets (`critical`'s `bnb` in 2D and 3D, the enumeration's
+//! `rays/search` in 2D) as a linear program for the in-house simplex method
+//! ([`super::simplex`]), warm-started from the parent's basis.
+//!
+//! **In 3D the program is a relaxation.** The friction cone `||r_t|| <= mu r_n` is replaced by
+//! the cone over a regular polygon of [`SIDES`] sides that holds its circle (corners at
+//! `mu / cos(pi / SIDES)`). So an infeasible 3D program refutes the node's second-order cone
+//! program too (a valid prune), but a feasible one's point may lie outside the true cone: it
+//! steers branching only, and a leaf is decided by the cone program itself (Clarabel).
 //!
 //! **The program** has one fixed shape for the whole search, so that a basis carries over from
 //! a node to its children and to its bound-tightening programs, which differ only in bounds
 //! and costs:
-//! - two columns per node, `a_i, b_i >= 0`, the friction cone's edges: `r_n_i = a_i + b_i`,
+//! - per node, the friction cone's edges as columns, `a_i, b_i >= 0` in 2D: `r_n_i = a_i + b_i`,
 //!   `r_t_i = mu (a_i - b_i)` (at `mu = infinity`: `r_n_i = a_i`, `r_t_i = b_i` free), so the
-//!   friction law is a pair of bounds; a node without a reaction has both fixed at zero;
+//!   friction law is a pair of bounds; in 3D the [`SIDES`] edges of the outer polygon's cone
+//!   (at `mu = infinity` the reaction components, tangents free); a node without a reaction
+//!   has them fixed at zero;
 //! - for a floating body, one free column per rigid amplitude that moves some contact node
 //!   normally ([`Formulation::amplitude_of`]): `u = G r + R a`;
 //! - rows, each a row activity with bounds: the scaled gaps `u_n_i` (`= 0` in contact, `>= 0`
@@ -87,17 +95,56 @@ pub(crate) struct LpCounters {
     pub fallbacks: AtomicU64,
 }
 
-/// Column coefficients of a row over the reaction components (`2m`), at `mu`.
-fn on_columns(row: &[f64], mu: f64) -> impl Iterator<Item = (f64, f64)> + '_ {
-    row.chunks(2).map(move |w| {
-        if mu.is_finite() {
-            (w[0] + mu * w[1], w[0] - mu * w[1])
-        } else {
-            (w[0], w[1])
-        }
+/// Columns per node of the 3D program: the edges of a regular polygon's cone that holds the
+/// friction cone (an outer relaxation, see the module docs). More sides make the relaxation
+/// tighter (`1 / cos(pi / SIDES)` times `mu` at the corners) and each program wider.
+pub(crate) const SIDES: usize = 8;
+
+/// Columns per node: the friction cone's edges (2D: 2; 3D: [`SIDES`]).
+pub(crate) fn per_node(dim: usize) -> usize {
+    if dim == 2 {
+        2
+    } else {
+        SIDES
+    }
+}
+
+/// The 3D outer polygon's edges: each one's tangent direction times the corner radius per
+/// unit `mu` (the polygon's sides touch the circle of radius `mu`). Computed once.
+fn corners() -> &'static [(f64, f64); SIDES] {
+    static CORNERS: std::sync::OnceLock<[(f64, f64); SIDES]> = std::sync::OnceLock::new();
+    CORNERS.get_or_init(|| {
+        let step = std::f64::consts::PI / SIDES as f64;
+        let radius = 1.0 / step.cos();
+        std::array::from_fn(|j| {
+            let angle = 2.0 * step * j as f64;
+            (radius * angle.cos(), radius * angle.sin())
+        })
     })
 }
 
+/// A node's column coefficients (into `out`, [`per_node`] of them) of a row whose entries at
+/// the node's reaction components are `w`, at `mu`.
+fn node_columns(w: &[f64], mu: f64, out: &mut [f64]) {
+    match (w.len(), mu.is_finite()) {
+        (2, true) => {
+            out[0] = w[0] + mu * w[1];
+            out[1] = w[0] - mu * w[1];
+        }
+        (_, true) => {
+            let (t1, t2) = (mu * w[1], mu * w[2]);
+            for (o, &(c, s)) in out.iter_mut().zip(corners()) {
+                *o = w[0] + c * t1 + s * t2;
+            }
+        }
+        // At mu = infinity: the columns are the reaction components (tangents free), the 3D
+        // program's other columns unused (fixed at zero).
+        (_, false) => {
+            out.iter_mut().for_each(|o| *o = 0.0);
+            out[..w.len()].copy_from_slice(w);
+        }
+    }
+}
 /// The program of `classes` at `shape`, normalised by `norm` ([`Norm::Sum`] or
 /// [`Norm::Pressed`]), minimising `objective` over the reaction components (none: zero).
 fn program(
@@ -108,8 +155,10 @@ fn program(
     objective: Option<&[f64]>,
 ) -> Lp {
     let m = form.m;
-    let reactions = 2 * m;
-    let n = reactions + form.amplitudes();
+    let d = form.dim;
+    let g = per_node(d);
+    let reactions = d * m;
+    let n = g * m + form.amplitudes();
     let modes = form.modes;
     let rows = 3 * m + 1 + modes;
     let mu = shape.mu;
@@ -121,11 +170,11 @@ fn program(
     for i in 0..m {
         set_row(&mut lp, i, form.gap_row(i));
         unit.iter_mut().for_each(|x| *x = 0.0);
-        unit[2 * i] = 1.0;
+        unit[d * i] = 1.0;
         set_row(&mut lp, m + i, &unit);
     }
     let all: Vec<f64> = (0..reactions)
-        .map(|c| if c % 2 == 0 { 1.0 } else { 0.0 })
+        .map(|c| if c % d == 0 { 1.0 } else { 0.0 })
         .collect();
     set_row(&mut lp, 2 * m, &all);
     for (j, row) in form.balance_rows().iter().enumerate() {
@@ -152,13 +201,15 @@ fn program(
     };
     for (i, &c) in classes.iter().enumerate() {
         let has_r = c.has_r();
-        let (a, b) = (2 * i, 2 * i + 1);
-        (lp.lo[a], lp.hi[a]) = (0.0, if has_r { cap } else { 0.0 });
-        (lp.lo[b], lp.hi[b]) = match (has_r, mu.is_finite()) {
-            (false, _) => (0.0, 0.0),
-            (true, true) => (0.0, cap),
-            (true, false) => (f64::NEG_INFINITY, f64::INFINITY),
-        };
+        let columns = g * i..g * (i + 1);
+        for (k, col) in columns.enumerate() {
+            (lp.lo[col], lp.hi[col]) = match (has_r, mu.is_finite(), k) {
+                (false, _, _) => (0.0, 0.0),
+                (true, true, _) | (true, false, 0) => (0.0, cap),
+                (true, false, k) if k < d => (f64::NEG_INFINITY, f64::INFINITY),
+                (true, false, _) => (0.0, 0.0),
+            };
+        }
         let gap = n + i;
         (lp.lo[gap], lp.hi[gap]) = match c {
             Class::Contact | Class::Grazing => (0.0, 0.0),
@@ -184,40 +235,42 @@ fn program(
 /// Writes `row` (over the `2m` reactions, then a floating body's `k` amplitudes) into `out`, a
 /// program's row over the friction edges `a_i, b_i` at `mu` and then the amplitude columns.
 pub(super) fn put_row(form: &Formulation, mu: f64, row: &[f64], out: &mut [f64]) {
-    let reactions = 2 * form.m;
-    for (i, (a, b)) in on_columns(&row[..reactions], mu).enumerate() {
-        out[2 * i] = a;
-        out[2 * i + 1] = b;
+    let d = form.dim;
+    let g = per_node(d);
+    let reactions = d * form.m;
+    for (w, o) in row[..reactions].chunks(d).zip(out.chunks_mut(g)) {
+        node_columns(w, mu, o);
     }
     for (j, &x) in row.get(reactions..).unwrap_or(&[]).iter().enumerate() {
         if let Some(c) = form.amplitude_of(j) {
-            out[reactions + c] = x;
+            out[g * form.m + c] = x;
         }
     }
 }
 
-/// The point of the columns `x` at `mu`: the reactions (`2m`), then for a floating body the
+/// The point of the columns `x` at `mu`: the reactions (`dm`), then for a floating body the
 /// `k` rigid amplitudes.
 fn point(form: &Formulation, x: &[f64], mu: f64) -> Vec<f64> {
-    let m = form.m;
-    let mut r = reactions(x, m, mu);
-    r.extend((0..form.modes).map(|j| form.amplitude_of(j).map_or(0.0, |c| x[2 * m + c])));
-    r
-}
-
-/// The reactions (`2m`) of the columns `x`, at `mu`.
-fn reactions(x: &[f64], m: usize, mu: f64) -> Vec<f64> {
-    let mut r = vec![0.0; 2 * m];
-    for i in 0..m {
-        let (a, b) = (x[2 * i], x[2 * i + 1]);
-        if mu.is_finite() {
-            r[2 * i] = a + b;
-            r[2 * i + 1] = mu * (a - b);
-        } else {
-            r[2 * i] = a;
-            r[2 * i + 1] = b;
+    let (m, d) = (form.m, form.dim);
+    let g = per_node(d);
+    let mut r = vec![0.0; d * m];
+    for (cols, out) in x.chunks(g).zip(r.chunks_mut(d)).take(m) {
+        match (d, mu.is_finite()) {
+            (2, true) => {
+                out[0] = cols[0] + cols[1];
+                out[1] = mu * (cols[0] - cols[1]);
+            }
+            (_, true) => {
+                for (&l, &(c, s)) in cols.iter().zip(corners()) {
+                    out[0] += l;
+                    out[1] += mu * c * l;
+                    out[2] += mu * s * l;
+                }
+            }
+            (_, false) => out.copy_from_slice(&cols[..d]),
         }
     }
+    r.extend((0..form.modes).map(|j| form.amplitude_of(j).map_or(0.0, |c| x[g * m + c])));
     r
 }
 
@@ -259,7 +312,8 @@ pub(crate) fn decide(
             counters.solves.fetch_add(1, Ordering::Relaxed);
             let mut r = point(form, &x, shape.mu);
             if !matches!(norm, Norm::Sum) {
-                let total: f64 = r[..2 * form.m].iter().step_by(2).sum();
+                let d = form.dim;
+                let total: f64 = r[..d * form.m].iter().step_by(d).sum();
                 r.iter_mut().for_each(|x| *x /= total);
             }
             (Decision::Yes { r, value }, Some(warm))
@@ -305,4 +359,26 @@ pub(crate) fn relaxation<'a>(
         )
         .0
     }
+}
+
+/// Bound tightening at a search node ([`cuts::tighten`] over its relaxation at `shape`, each
+/// program started from the relaxation's own basis): the new drive bounds and that basis, or
+/// `None` when the relaxation is infeasible (the subtree holds no solution at `shape.mu` or
+/// below). The relaxation is solved first from `warm`, so that an infeasible node costs one
+/// program.
+pub(crate) fn tighten_node(
+    form: &Formulation,
+    counters: &LpCounters,
+    classes: &[Class],
+    shape: Shape,
+    warm: Option<&Warm>,
+) -> Option<(Drive, Option<Warm>)> {
+    let (first, basis) = decide(form, counters, classes, shape, Norm::Sum, None, warm);
+    if first == Decision::No {
+        return None;
+    }
+    let start = basis.or_else(|| warm.cloned());
+    let minimise = relaxation(form, counters, classes, shape, start.clone());
+    let tight = cuts::tighten(form, classes, shape.drive.map(|d| &**d), &minimise)?;
+    Some((tight, start))
 }

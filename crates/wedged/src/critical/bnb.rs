@@ -17,29 +17,32 @@
 //! node pressed; its threshold ([`super::Ctx::leaf_threshold`]) is below the incumbent and
 //! replaces it. Subtrees run in parallel (`rayon::join`) and share the incumbent.
 //!
-//! **Drive cuts (2D, not certified).** Nodes down to [`TIGHTEN_DEPTH`] (deeper on larger
+//! **Drive cuts (not certified).** Nodes down to [`TIGHTEN_DEPTH`] (deeper on larger
 //! problems) bound the drive of their undecided nodes (again down to [`RETIGHTEN_DEPTH`] when
 //! the incumbent has dropped since), and every program below carries the cuts those bounds
 //! give ([`crate::conic::cuts`]): a node that presses must not be driven open. The program then also
 //! minimises the undecided nodes' total gap and pressure, so that its point is a vertex rather
 //! than a central one. On
 //! the 2D plug this cuts the tree by 10x to 50x and the time by 3x to 8x (`BENCHMARKS.md`). In
-//! 3D the cuts are left out: on the 3D plug (m = 20) they changed the branching for the worse,
-//! 39k nodes and 15 s with cuts at the root, 23k and 10.6 s down to depth 4, against 12k and
-//! 3.7 s without. A certified run leaves them out too, since its refutations must be checked
-//! exactly.
+//! 3D the bounds come from the outer polyhedral relaxation of the node (below), so they hold
+//! for its cone program too; on the 3D V-groove plug (m = 20) the tree went from 31k nodes to
+//! 13k. (With Clarabel's central points, before the 3D simplex programs, the cuts had made the
+//! 3D tree larger: 39k nodes against 12k.) A certified run leaves them out, since its
+//! refutations must be checked exactly.
 //!
 //! **The simplex method (the same searches).** Their programs are linear programs of one
 //! shape ([`crate::conic::node_lp`]); each is solved by the in-house simplex method from its parent's
 //! basis (the tightening programs from the node's), a few pivots where Clarabel starts over.
 //! On the 2D plug with m = 40 that took the search from 18 s to 0.8 s, with m = 60 from 268 s
-//! to 7.9 s (`BENCHMARKS.md`).
+//! to 7.9 s (`BENCHMARKS.md`). In 3D the program is an outer relaxation (the friction cone
+//! inside a polygon's cone): an infeasible one prunes, a feasible one steers the branching,
+//! and a leaf is decided by its cone program (Clarabel).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use super::{CriticalInfo, CriticalProgress, Ctx, Found, Leaf};
-use crate::conic::cuts::{self, Drive};
+use crate::conic::cuts::Drive;
 use crate::conic::node_lp::{self as lp, LpCounters, Shape, Warm};
 use crate::conic::program::{Class, Decision, Formulation, Goal, Norm};
 use crate::patterns::Undecided;
@@ -221,24 +224,8 @@ impl shard::Tree for Search<'_, '_, '_> {
                 mu: level,
                 drive: known,
             };
-            // The relaxation itself first: when it is infeasible, nothing to tighten; when
-            // not, its basis is the start of every tightening program.
-            let (first, basis) = lp::decide(
-                self.form(),
-                &self.lp,
-                &classes,
-                shape,
-                Norm::Sum,
-                None,
-                warm.as_deref(),
-            );
-            let tight = if first == Decision::No {
-                None
-            } else {
-                let start = basis.or_else(|| warm.as_deref().cloned());
-                let minimise = lp::relaxation(self.form(), &self.lp, &classes, shape, start);
-                cuts::tighten(self.form(), &classes, known.map(|d| &**d), &minimise)
-            };
+            let tight = lp::tighten_node(self.form(), &self.lp, &classes, shape, warm.as_deref())
+                .map(|(tight, _)| tight);
             match tight {
                 Some(tight) => {
                     drive = Some(Arc::new(Bounds {
@@ -253,7 +240,10 @@ impl shard::Tree for Search<'_, '_, '_> {
                 }
             }
         }
-        let mut decision = if self.simplex {
+        // A 3D leaf is decided by its cone program: the 3D linear program is an outer
+        // relaxation (`conic::node_lp`), exact enough to prune but not to find a solution.
+        let exact_leaf = free.is_empty() && self.form().dim == 3;
+        let mut decision = if self.simplex && !exact_leaf {
             // Towards a vertex: the least total of the undecided nodes' gaps and pressures.
             // (An interior-point solver returns a central point, at which many nodes break
             // complementarity a little, and the branching rule picks worse: on the 2D plug
@@ -436,8 +426,8 @@ pub(super) fn run(
         visited: AtomicU64::new(0),
         pruned: AtomicU64::new(0),
         leaves: AtomicU64::new(0),
-        simplex: ctx.form.refutations.is_none() && ctx.form.dim == 2,
-        cut: ctx.form.refutations.is_none() && ctx.form.dim == 2 && ctx.form.modes == 0,
+        simplex: ctx.form.refutations.is_none(),
+        cut: ctx.form.refutations.is_none() && ctx.form.modes == 0,
         tightened: AtomicU64::new(0),
         lp: LpCounters::default(),
         // Not in a certified run: the subtrees it skips have no refutation to check.

@@ -85,17 +85,24 @@ pub(super) fn info_line(info: &Info) -> String {
     if info.search_nodes > 0 {
         parts.push(format!(
             "search tree: {} ({} pruned, {} inherited, {} bounded the drives), {} (faces up to \
-             dimension {}); {} ({} pivots, {} passed to Clarabel)",
+             dimension {}); {}",
             plural(info.search_nodes as usize, "node", "nodes"),
             info.search_pruned,
             info.search_inherited,
             info.search_tightenings,
             plural(info.search_leaves as usize, "leaf", "leaves"),
             info.largest_face,
-            plural(info.lp_solves as usize, "linear program", "linear programs"),
-            info.lp_pivots,
-            info.lp_fallbacks
+            linear_programs(info.lp_solves, info.lp_pivots, info.lp_fallbacks)
         ));
     }
     parts.join("; ")
+}
+
+/// The simplex method's share of a search: "N linear programs (P pivots, F passed to
+/// Clarabel)".
+pub(super) fn linear_programs(solves: u64, pivots: u64, fallbacks: u64) -> String {
+    format!(
+        "{} ({pivots} pivots, {fallbacks} passed to Clarabel)",
+        plural(solves as usize, "linear program", "linear programs"),
+    )
 }

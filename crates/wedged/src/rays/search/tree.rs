@@ -34,7 +34,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use crate::conic::contact_lp::ContactLp;
-use crate::conic::cuts::{self, Drive};
+use crate::conic::cuts::Drive;
 use crate::conic::node_lp::{self, Shape, Warm as Basis};
 use crate::conic::program::{Class, Decision, Norm, POSITIVE};
 use crate::rays::Progress;
@@ -290,23 +290,9 @@ impl shard::Tree for Search<'_, '_> {
                 mu: form.mu,
                 drive: drive.as_ref(),
             };
-            let (first, basis) = node_lp::decide(
-                form,
-                counters,
-                &classes,
-                shape,
-                Norm::Sum,
-                None,
-                warm.as_deref(),
-            );
-            let start = basis.or_else(|| warm.as_deref().cloned());
-            let tight = if first == Decision::No {
-                None
-            } else {
-                let minimise = node_lp::relaxation(form, counters, &classes, shape, start.clone());
-                cuts::tighten(form, &classes, drive.as_deref(), &minimise)
-            };
-            let Some(tight) = tight else {
+            let Some((tight, start)) =
+                node_lp::tighten_node(form, counters, &classes, shape, warm.as_deref())
+            else {
                 self.pruned.fetch_add(1, Ordering::Relaxed);
                 return None;
             };
