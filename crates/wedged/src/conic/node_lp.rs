@@ -98,7 +98,7 @@ pub(crate) struct LpCounters {
 /// Columns per node of the 3D program: the edges of a regular polygon's cone that holds the
 /// friction cone (an outer relaxation, see the module docs). More sides make the relaxation
 /// tighter (`1 / cos(pi / SIDES)` times `mu` at the corners) and each program wider.
-pub(crate) const SIDES: usize = 8;
+pub(crate) const SIDES: usize = 12;
 
 /// Columns per node: the friction cone's edges (2D: 2; 3D: [`SIDES`]).
 pub(crate) fn per_node(dim: usize) -> usize {

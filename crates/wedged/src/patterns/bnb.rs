@@ -134,6 +134,14 @@ impl shard::Tree for Search<'_, '_> {
             }
             let contact: Vec<bool> = classes.iter().map(|&c| c == Class::Contact).collect();
             self.leaves.fetch_add(1, Ordering::Relaxed);
+            if self.simplex
+                && !press.is_empty()
+                && self.pressed_set_refuted(&classes, &drive, &warm)
+            {
+                // No solution presses every contact node (the unpressed prune, at the leaf).
+                self.pruned_unpressed.fetch_add(1, Ordering::Relaxed);
+                return None;
+            }
             match leaf_pattern(self.form, &contact) {
                 Ok(Some(q)) => self.found.lock().expect("no panics while held").push(q),
                 Ok(None) => {}
@@ -300,6 +308,39 @@ impl shard::Tree for Search<'_, '_> {
                 drive,
             },
         ))
+    }
+}
+
+impl Search<'_, '_> {
+    /// Whether the linear program of a leaf (`conic::node_lp`, its contact nodes pressed; in 3D
+    /// an outer relaxation) is infeasible: then no solution presses its whole contact set, and
+    /// its pattern, if any, lies below the pattern found at the leaf of its pressed nodes. A
+    /// leaf costs a few pivots this way where its cone programs cost milliseconds: on the 3D
+    /// V-groove plug (m = 20) most leaves the search reaches end here.
+    fn pressed_set_refuted(
+        &self,
+        classes: &[Class],
+        drive: &Option<Arc<Drive>>,
+        warm: &Option<Arc<Warm>>,
+    ) -> bool {
+        let contact: Vec<usize> = (0..self.form.m)
+            .filter(|&i| classes[i] == Class::Contact)
+            .collect();
+        let shape = Shape {
+            mu: self.form.mu,
+            drive: drive.as_ref(),
+        };
+        let norm = Norm::Pressed(&contact);
+        let (decision, _) = lp::decide(
+            self.form,
+            &self.lp,
+            classes,
+            shape,
+            norm,
+            None,
+            warm.as_deref(),
+        );
+        decision == Decision::No
     }
 }
 
