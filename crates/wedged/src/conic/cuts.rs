@@ -86,6 +86,18 @@ pub(crate) fn row(form: &Formulation, j: usize, lo: f64, hi: f64) -> Option<Vec<
     Some(row)
 }
 
+/// The depth down to which the 3D searches' nodes tighten the drive bounds (nodes at depths
+/// below it, or at it for `critical`'s `bnb`): deeper than in 2D, since a 3D tree is far wider
+/// (measured on the 3D V-groove plug with the 12-gon relaxation, whole process: m = 20,
+/// `enumerate` at 1.2 `mu*`, depths 3, 5, 7, 9: 6.5, 3.6, 3.7, 4.7 s (42k, 26k, 16k, 11k
+/// nodes); `critical` (8-gon) depths 4, 6, 8, 10: 1.7, 1.5, 1.9, 2.5 s; m = 40, `critical`,
+/// 8-gon, depth 4: 2.0M nodes, 635 s, depth 10: 525k nodes, 533 s; 12-gon, depth 8: 235k
+/// nodes, 514 s, depth 10 with leaves screened: not finished in 900 s; all four on a machine
+/// shared with other runs for part of the time).
+pub(crate) fn tighten_depth_3d(m: usize) -> usize {
+    (m / 5).max(5)
+}
+
 /// The cuts (rows [`row`]) that the bounds `drive` give the free nodes of `classes`.
 pub(crate) fn rows(form: &Formulation, classes: &[Class], drive: &[(f64, f64)]) -> Vec<Vec<f64>> {
     drive

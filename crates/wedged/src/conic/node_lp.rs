@@ -97,7 +97,9 @@ pub(crate) struct LpCounters {
 
 /// Columns per node of the 3D program: the edges of a regular polygon's cone that holds the
 /// friction cone (an outer relaxation, see the module docs). More sides make the relaxation
-/// tighter (`1 / cos(pi / SIDES)` times `mu` at the corners) and each program wider.
+/// tighter (`1 / cos(pi / SIDES)` times `mu` at the corners) and each program wider. (Measured
+/// on the 3D V-groove plug, m = 20, whole process: 6, 8, 12, 16, 24 sides, `critical` 1.8,
+/// 1.6, 1.2, 2.3, 1.6 s, `enumerate` at 1.2 `mu*` 6.9, 6.7, 5.4, 9.0, 9.0 s; `BENCHMARKS.md`.)
 pub(crate) const SIDES: usize = 12;
 
 /// Columns per node: the friction cone's edges (2D: 2; 3D: [`SIDES`]).

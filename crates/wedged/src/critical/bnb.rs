@@ -121,6 +121,15 @@ impl Search<'_, '_, '_> {
         }
     }
 
+    /// Nodes down to this depth tighten the drive bounds.
+    fn tighten_depth(&self) -> usize {
+        let m = self.form().m;
+        match self.form().dim {
+            2 => TIGHTEN_DEPTH.max(m / TIGHTEN_PER_DEPTH),
+            _ => crate::conic::cuts::tighten_depth_3d(m),
+        }
+    }
+
     fn offer(&self, leaf: Leaf) {
         {
             let mut low = self.leaf_lower.lock().expect("no panics while held");
@@ -169,7 +178,7 @@ impl shard::Tree for Search<'_, '_, '_> {
     /// The tightening nodes (two programs per undecided node each).
     fn keep_depth(&self) -> usize {
         if self.cut {
-            TIGHTEN_DEPTH.max(self.form().m / TIGHTEN_PER_DEPTH) + 1
+            self.tighten_depth() + 1
         } else {
             0
         }
@@ -215,12 +224,7 @@ impl shard::Tree for Search<'_, '_, '_> {
         if self.cut
             && !free.is_empty()
             && level.is_finite()
-            && (depth
-                <= std::env::var("TD")
-                    .ok()
-                    .and_then(|v| v.parse().ok())
-                    .unwrap_or(TIGHTEN_DEPTH.max(m / TIGHTEN_PER_DEPTH))
-                || (stale && depth <= RETIGHTEN_DEPTH))
+            && (depth <= self.tighten_depth() || (stale && depth <= RETIGHTEN_DEPTH))
         {
             self.tightened.fetch_add(1, Ordering::Relaxed);
             let known = drive.as_ref().map(|b| &b.drive);

@@ -18,8 +18,8 @@
 //! refutation prunes the cone program too, its point only steers the branching. Nodes near the
 //! root bound their free nodes' drives and hand the cuts down ([`crate::conic::cuts`], not for a
 //! floating body). A leaf's pattern is always the cone program's. On the 3D V-groove plug
-//! (m = 20, 1.2 `mu*`, 588 patterns) that took the search from 53 s (every node Clarabel's) to
-//! a few seconds (`BENCHMARKS.md`). A certified run decides every node by Clarabel, as below.
+//! (m = 20, 1.2 `mu*`, 592 patterns) that took the whole run from 28 s (every node Clarabel's)
+//! to about 4 s (`BENCHMARKS.md`). A certified run decides every node by Clarabel, as below.
 //!
 //! An undecided relaxation (the solver unsure) never prunes. A leaf (every node fixed) yields its
 //! realised pattern ([`super::leaf_pattern`]). The next node to branch on is the one whose
@@ -365,7 +365,10 @@ pub(super) fn run(
         simplex: form.refutations.is_none(),
         lp: LpCounters::default(),
         tighten_depth: if form.refutations.is_none() && form.modes == 0 {
-            crate::rays::search::tree::tighten_depth(form.m)
+            match form.dim {
+                2 => crate::rays::search::tree::tighten_depth(form.m),
+                _ => crate::conic::cuts::tighten_depth_3d(form.m),
+            }
         } else {
             0
         },
