@@ -254,14 +254,7 @@ impl shard::Tree for Search<'_, '_, '_> {
             // complementarity a little, and the branching rule picks worse: on the 2D plug
             // with m = 40 and Clarabel, 2.9k nodes and 17 s with this objective, 5.6k and 20 s
             // without.)
-            let d = self.form().dim;
-            let mut objective = vec![0.0; self.form().width()];
-            for &j in &free {
-                for (a, g) in objective.iter_mut().zip(self.form().gap_row(j)) {
-                    *a += g;
-                }
-                objective[d * j] += 1.0;
-            }
+            let objective = lp::vertex_objective(self.form(), &free);
             let shape = Shape {
                 mu: level,
                 drive: drive.as_ref().map(|b| &b.drive),

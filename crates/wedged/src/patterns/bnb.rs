@@ -202,14 +202,7 @@ impl shard::Tree for Search<'_, '_> {
                 } else {
                     Norm::Pressed(&contact)
                 };
-                let d = self.form.dim;
-                let mut objective = vec![0.0; self.form.width()];
-                for &j in &free {
-                    for (a, g) in objective.iter_mut().zip(self.form.gap_row(j)) {
-                        *a += g;
-                    }
-                    objective[d * j] += 1.0;
-                }
+                let objective = lp::vertex_objective(self.form, &free);
                 let shape = Shape {
                     mu: self.form.mu,
                     drive: drive.as_ref(),

@@ -315,13 +315,7 @@ impl shard::Tree for Search<'_, '_> {
                 // Towards a vertex: the least total of the free nodes' gaps and pressures (a
                 // point at which few free nodes break complementarity, so the branching rule
                 // picks well, as in `critical`'s `bnb`).
-                let mut objective = vec![0.0; form.width()];
-                for &j in &free {
-                    for (a, g) in objective.iter_mut().zip(form.gap_row(j)) {
-                        *a += g;
-                    }
-                    objective[2 * j] += 1.0;
-                }
+                let objective = node_lp::vertex_objective(form, &free);
                 let shape = Shape {
                     mu: form.mu,
                     drive: drive.as_ref(),
