@@ -1,5 +1,5 @@
-//! The search node over contact sets (`critical`'s `bnb` in 2D and 3D, the enumeration's
-//! `rays/search` in 2D) as a linear program for the in-house simplex method
+//! The search node over contact sets (`critical`'s and the patterns' `bnb` in 2D and 3D, the
+//! enumeration's `rays/search` in 2D) as a linear program for the in-house simplex method
 //! ([`super::simplex`]), warm-started from the parent's basis.
 //!
 //! **In 3D the program is a relaxation.** The friction cone `||r_t|| <= mu r_n` is replaced by
@@ -234,8 +234,9 @@ fn program(
     lp
 }
 
-/// Writes `row` (over the `2m` reactions, then a floating body's `k` amplitudes) into `out`, a
-/// program's row over the friction edges `a_i, b_i` at `mu` and then the amplitude columns.
+/// Writes `row` (over the `dm` reactions, then a floating body's `k` amplitudes) into `out`, a
+/// program's row over each node's friction edges ([`per_node`] of them) at `mu` and then the
+/// amplitude columns.
 pub(super) fn put_row(form: &Formulation, mu: f64, row: &[f64], out: &mut [f64]) {
     let d = form.dim;
     let g = per_node(d);
