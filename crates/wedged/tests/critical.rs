@@ -585,6 +585,22 @@ fn the_three_methods_agree_on_random_problems() {
     assert!(wedged >= cases.len() / 2, "{wedged} wedged");
 }
 
+/// Two wedged runs agree: their brackets overlap (to 1e-9) and their upper ends are within
+/// [`AGREE`] of each other, or within the looser of the brackets the two achieved.
+fn assert_brackets_agree(c: &Critical, other: &Critical, whose: &str, what: &str) {
+    let (lower, upper) = (c.lower.unwrap(), c.upper.unwrap());
+    let (lo, up) = (other.lower.unwrap(), other.upper.unwrap());
+    let tol = AGREE.max(c.info.tol_achieved).max(other.info.tol_achieved);
+    assert!(
+        lower <= up * (1.0 + 1e-9) && lo <= upper * (1.0 + 1e-9),
+        "{what}: [{lower}, {upper}] against {whose} [{lo}, {up}]"
+    );
+    assert!(
+        (upper - up).abs() <= tol * upper.min(up),
+        "{what}: upper {upper} against {whose} {up}"
+    );
+}
+
 /// The default `bnb` (not certified: it prunes with the drive cuts of `critical/cuts.rs`)
 /// against the certified runs of every random case, which prune without them: the same status,
 /// the same `mu*`, brackets that overlap, and a witness checked here.
@@ -601,18 +617,8 @@ fn bnb_with_drive_cuts_agrees_with_certified_runs() {
             continue;
         }
         check_witness(&case.problem, &c, &what);
-        let (lower, upper) = (c.lower.unwrap(), c.upper.unwrap());
         for (method, other) in &case.results {
-            let (lo, up) = (other.lower.unwrap(), other.upper.unwrap());
-            let tol = AGREE.max(c.info.tol_achieved).max(other.info.tol_achieved);
-            assert!(
-                lower <= up * (1.0 + 1e-9) && lo <= upper * (1.0 + 1e-9),
-                "{what}: [{lower}, {upper}] against {method}'s [{lo}, {up}]"
-            );
-            assert!(
-                (upper - up).abs() <= tol * upper.min(up),
-                "{what}: upper {upper} against {method}'s {up}"
-            );
+            assert_brackets_agree(&c, other, &format!("{method}'s"), &what);
         }
     }
     assert!(tightenings > 50, "{tightenings} bound tightenings");
@@ -639,19 +645,7 @@ fn bnb_on_the_polyhedral_relaxation_agrees_with_the_brute_force_in_3d() {
         }
         wedged += 1;
         check_witness(&problem, &fast, &what);
-        let (lower, upper) = (fast.lower.unwrap(), fast.upper.unwrap());
-        let (lo, up) = (brute.lower.unwrap(), brute.upper.unwrap());
-        let tol = AGREE
-            .max(fast.info.tol_achieved)
-            .max(brute.info.tol_achieved);
-        assert!(
-            lower <= up * (1.0 + 1e-9) && lo <= upper * (1.0 + 1e-9),
-            "{what}: [{lower}, {upper}] against the brute force's [{lo}, {up}]"
-        );
-        assert!(
-            (upper - up).abs() <= tol * upper.min(up),
-            "{what}: upper {upper} against the brute force's {up}"
-        );
+        assert_brackets_agree(&fast, &brute, "the brute force's", &what);
     }
     println!("{wedged} of 100 wedged, {programs} linear programs, {tightenings} tightenings");
     assert!(wedged >= 30, "{wedged} wedged");
