@@ -42,6 +42,7 @@
 //! - A failed check, a singular basis or too many pivots: one retry from the slack basis, then
 //!   `Failed` with the reason, and the caller asks Clarabel.
 
+mod active;
 mod check;
 mod pool;
 
@@ -136,14 +137,20 @@ enum At {
     Zero,
 }
 
-/// A basis: which variable is basic in each row position, where the others sit, and the
-/// inverse of the basis matrix (dropped with [`Basis::forget`] when the matrix changes). The
-/// inverse's buffer is recycled ([`pool`]).
+/// A basis: which variable is basic in each position, where the others sit, and the inverse
+/// of the basis matrix (dropped with [`Basis::forget`] when the matrix changes), over the
+/// active rows only (see [`active`]: the activity of every other row is basic). The inverse's
+/// buffer is recycled ([`pool`]).
 #[derive(Debug)]
 pub(crate) struct Basis {
+    /// The basic variable at each position (as many as `rows`).
     head: Vec<usize>,
+    /// Where each of the program's `n + rows` variables sits.
     at: Vec<At>,
+    /// `B^-1`, row-major: positions by active rows (in the order of `rows`).
     inv: Option<Vec<f64>>,
+    /// The active rows.
+    rows: Vec<usize>,
 }
 
 impl Clone for Basis {
@@ -152,6 +159,7 @@ impl Clone for Basis {
             head: self.head.clone(),
             at: self.at.clone(),
             inv: self.inv.as_deref().map(pool::copy_of),
+            rows: self.rows.clone(),
         }
     }
 }
@@ -165,24 +173,6 @@ impl Drop for Basis {
 }
 
 impl Basis {
-    /// The slack basis of `lp`: every row activity basic.
-    fn slack(lp: &Lp) -> Basis {
-        let r = lp.rows;
-        let mut inv = pool::zeroed(r * r);
-        for k in 0..r {
-            inv[k * r + k] = -1.0;
-        }
-        let mut at = vec![At::Lower; lp.total()];
-        for a in &mut at[lp.n..] {
-            *a = At::Basic;
-        }
-        Basis {
-            head: (lp.n..lp.total()).collect(),
-            at,
-            inv: Some(inv),
-        }
-    }
-
     /// Drops the inverse: the program's matrix has changed since (it is refactored from the
     /// basic columns on the next solve).
     pub(crate) fn forget(&mut self) {
@@ -197,11 +187,14 @@ impl Basis {
             head: self.head.clone(),
             at: self.at.clone(),
             inv: None,
+            rows: self.rows.clone(),
         }
     }
 
     fn fits(&self, lp: &Lp) -> bool {
-        self.head.len() == lp.rows && self.at.len() == lp.total()
+        self.head.len() == self.rows.len()
+            && self.at.len() == lp.total()
+            && self.rows.iter().all(|&k| k < lp.rows)
     }
 }
 
@@ -229,14 +222,19 @@ pub(crate) struct Stats {
 pub(crate) fn solve(lp: &Lp, start: Option<&Basis>) -> (Answer, Basis, Stats) {
     let mut stats = Stats::default();
     // The warm start, then (lazily) the slack basis.
-    let warm = start.filter(|b| b.fits(lp)).cloned();
+    // The warm start adapted to the program's idle rows, then (lazily) the slack basis.
+    let warm = start.filter(|b| b.fits(lp)).map(|b| active::adapt(lp, b));
     let tries = warm
         .into_iter()
-        .chain(std::iter::once_with(|| Basis::slack(lp)));
+        .chain(std::iter::once_with(|| active::slack(lp)));
     let mut last = String::new();
-    for mut basis in tries {
+    for basis in tries {
+        // The program on the basis's active rows, and the basis in its numbering.
+        let rows = basis.rows.clone();
+        let part = active::part(lp, &rows);
+        let mut basis = active::into_part(lp, basis);
         if basis.inv.is_none() {
-            match invert(lp, &basis.head) {
+            match invert(&part, &basis.head) {
                 Some(inv) => basis.inv = Some(inv),
                 None => {
                     last = "the warm-start basis is singular".into();
@@ -244,20 +242,22 @@ pub(crate) fn solve(lp: &Lp, start: Option<&Basis>) -> (Answer, Basis, Stats) {
                 }
             }
         }
-        let mut run = Run::new(lp, basis);
+        let mut run = Run::new(&part, basis);
+        // Checked on the whole program.
         let answer = run.solve(&mut stats).and_then(|outcome| match outcome {
             Outcome::Optimal => check_point(lp, &run.x[..lp.n]),
             Outcome::Infeasible(p) => {
-                let r = lp.rows;
-                check_certificate(lp, &run.inv()[p * r..(p + 1) * r])
+                let r = part.rows;
+                let y = active::spread(lp.rows, &rows, &run.inv()[p * r..(p + 1) * r]);
+                check_certificate(lp, &y)
             }
         });
         match answer {
-            Ok(answer) => return (answer, run.basis, stats),
+            Ok(answer) => return (answer, active::from_part(lp, &rows, run.basis), stats),
             Err(why) => last = why,
         }
     }
-    (Answer::Failed(last), Basis::slack(lp), stats)
+    (Answer::Failed(last), active::slack(lp), stats)
 }
 
 /// The inverse of the basis matrix of `head` (Gauss-Jordan with partial pivoting), `None` when

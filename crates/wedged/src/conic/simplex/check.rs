@@ -47,7 +47,7 @@ pub(super) fn check_certificate(lp: &Lp, y: &[f64]) -> Result<Answer, String> {
     // whether a non-tiny term is unbounded that way. A row activity's bounds are its own
     // intersected with those its columns' bounds imply, so that a program whose columns are
     // all bounded needs no term dropped.
-    let bounds = effective_bounds(lp);
+    let bounds = effective_bounds(lp, y);
     let (mut least, mut most, mut least_terms, mut most_terms) = (0.0, 0.0, 0.0, 0.0);
     let (mut least_open, mut most_open) = (false, false);
     for (j, &cj) in c.iter().enumerate() {
@@ -80,11 +80,13 @@ pub(super) fn check_certificate(lp: &Lp, y: &[f64]) -> Result<Answer, String> {
 
 /// The bounds of every variable: a column's own, a row activity's own intersected with the
 /// interval that its columns' bounds imply (`A_k . x` over the box; infinite where a column
-/// is unbounded the way that matters).
-fn effective_bounds(lp: &Lp) -> Vec<(f64, f64)> {
+/// is unbounded the way that matters). The implied interval is worked out only for the rows
+/// with a multiplier in `y` (another row's activity has a zero entry in the certificate, so
+/// its bounds do not count).
+fn effective_bounds(lp: &Lp, y: &[f64]) -> Vec<(f64, f64)> {
     let n = lp.n;
     let mut out: Vec<(f64, f64)> = (0..lp.total()).map(|j| (lp.lo[j], lp.hi[j])).collect();
-    for k in 0..lp.rows {
+    for k in (0..lp.rows).filter(|&k| y[k] != 0.0) {
         let row = &lp.a[k * n..(k + 1) * n];
         let (mut lo, mut hi) = (0.0, 0.0);
         for (j, &a) in row.iter().enumerate() {
