@@ -21,7 +21,8 @@
 //! variables whose reduced cost has the wrong sign are shifted to make it dual feasible, the
 //! dual simplex method restores primal feasibility (Harris's two-pass ratio test, the largest
 //! infeasibility leaves), the shifts are dropped, and the primal simplex method (Devex
-//! pricing, Harris's ratio test, bound flips) finishes. The basic values and the reduced costs
+//! pricing, Harris's ratio test, bound flips) finishes. Idle rows (free, no cost) whose
+//! activity is basic are left out of the basis and its inverse ([`active`]). The basic values and the reduced costs
 //! are updated at each pivot and recomputed from the inverse every [`REFRESH`] pivots and
 //! before every verdict; a pivot element that the pivot row and the pivot column disagree on
 //! refactors the inverse. Dot products run on eight partial sums, which the compiler
