@@ -22,11 +22,12 @@
 //! dual simplex method restores primal feasibility (Harris's two-pass ratio test, the largest
 //! infeasibility leaves), the shifts are dropped, and the primal simplex method (Devex
 //! pricing, Harris's ratio test, bound flips) finishes. Idle rows (free, no cost) whose
-//! activity is basic are left out of the basis and its inverse ([`active`]). The basic values and the reduced costs
-//! are updated at each pivot and recomputed from the inverse every [`REFRESH`] pivots and
-//! before every verdict; a pivot element that the pivot row and the pivot column disagree on
-//! refactors the inverse. Dot products run on eight partial sums, which the compiler
-//! vectorises (on the 2D plug with m = 60 that alone halved the search's time).
+//! activity is basic are left out of the basis and its inverse ([`active`]). The basic values
+//! and the reduced costs are updated at each pivot and recomputed from the inverse every
+//! [`REFRESH`] pivots and before every verdict; a pivot element that the pivot row and the
+//! pivot column disagree on refactors the inverse. Dot products run on eight partial sums,
+//! which the compiler vectorises (on the 2D plug with m = 60 that alone halved the search's
+//! time).
 //!
 //! **Checked answers.** As in [`crate::socp`], nothing is returned unchecked:
 //! - `Optimal`: the row activities are recomputed as `A x` and every bound must hold within
@@ -222,7 +223,6 @@ pub(crate) struct Stats {
 /// the next, similar program).
 pub(crate) fn solve(lp: &Lp, start: Option<&Basis>) -> (Answer, Basis, Stats) {
     let mut stats = Stats::default();
-    // The warm start, then (lazily) the slack basis.
     // The warm start adapted to the program's idle rows, then (lazily) the slack basis.
     let warm = start.filter(|b| b.fits(lp)).map(|b| active::adapt(lp, b));
     let tries = warm
