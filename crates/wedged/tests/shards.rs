@@ -92,8 +92,8 @@ fn merged_shards_equal_one_run_on_floating_notches() {
 /// The triangle plug: equal answers at m = 20, and at m = 40 with 8 shards the largest shard
 /// visits at most half of the shards' nodes, the split's walks aside (measured 0.27 until
 /// 2026-11-26, 0.48 since the simplex method leaves idle rows out: the tree follows which of
-/// a degenerate program's optimal vertices the method ends on, and one unit at the split
-/// depth now holds a dead subtree of 3.5k nodes; BENCHMARKS.md).
+/// a degenerate program's optimal vertices the method ends on, and shard 1's own nodes went
+/// from 2,049 to 3,657 of about 7.6k; BENCHMARKS.md).
 #[test]
 fn the_plug_splits_evenly() {
     let p = wedged::examples::plug2d_tri(10)
