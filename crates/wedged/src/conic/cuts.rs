@@ -56,10 +56,15 @@ fn drive_row(form: &Formulation, j: usize) -> Vec<f64> {
     w
 }
 
+/// Whether bounds `(lo, hi)` on a drive give a cut ([`row`]): both finite, not crossed.
+pub(crate) fn has_row(lo: f64, hi: f64) -> bool {
+    lo.is_finite() && hi.is_finite() && lo <= hi
+}
+
 /// The cut (a row `a` of `a . r >= 0` over all reaction components) that bounds `(lo, hi)` on
 /// node `j`'s drive give, `None` when they give none (not both finite, or crossed).
 pub(crate) fn row(form: &Formulation, j: usize, lo: f64, hi: f64) -> Option<Vec<f64>> {
-    if !lo.is_finite() || !hi.is_finite() || lo > hi {
+    if !has_row(lo, hi) {
         return None;
     }
     let d = form.dim;

@@ -33,6 +33,7 @@
 //! program the simplex method cannot decide goes to Clarabel
 //! ([`Formulation::decide_cut`]); `fallbacks` counts those.
 
+use std::cell::RefCell;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
@@ -93,6 +94,81 @@ pub(crate) struct LpCounters {
     pub pivots: AtomicU64,
     /// Programs it could not, passed to Clarabel.
     pub fallbacks: AtomicU64,
+    /// Which counters these are (the key of the matrices they kept, [`LpCounters::matrix`]).
+    id: Id,
+}
+
+/// A process-wide number for each [`LpCounters`] (a thread's kept matrices are keyed by it, not
+/// by an address that a later formulation may reuse).
+#[derive(Debug)]
+struct Id(u64);
+
+impl Default for Id {
+    fn default() -> Id {
+        static NEXT: AtomicU64 = AtomicU64::new(0);
+        Id(NEXT.fetch_add(1, Ordering::Relaxed))
+    }
+}
+
+/// A matrix kept for its shape: the counters' [`Id`], `mu` as bits, the drive bounds (held,
+/// so that their address is not reused while they are compared by it) and the matrix.
+struct Kept {
+    id: u64,
+    mu: u64,
+    drive: Option<Arc<Drive>>,
+    a: Arc<Vec<f64>>,
+}
+
+/// At most this many shapes' matrices are kept per thread (a search uses a few at a time: its
+/// current drive bounds and their parent's, `critical`'s levels).
+const KEEP_SHAPES: usize = 8;
+
+thread_local! {
+    /// The matrices of the shapes this thread used last, the latest first.
+    static SHAPES: RefCell<Vec<Kept>> = const { RefCell::new(Vec::new()) };
+}
+
+impl LpCounters {
+    /// The matrix of `shape`'s programs for `form` (the one formulation that these counters
+    /// serve), built when this thread does not keep it.
+    fn matrix(&self, form: &Formulation, shape: Shape) -> Arc<Vec<f64>> {
+        let (id, mu) = (self.id.0, shape.mu.to_bits());
+        let same = |k: &Kept| {
+            k.id == id
+                && k.mu == mu
+                && match (&k.drive, shape.drive) {
+                    (None, None) => true,
+                    (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+                    _ => false,
+                }
+        };
+        let kept = SHAPES.with(|shapes| {
+            let mut shapes = shapes.borrow_mut();
+            let at = shapes.iter().position(same)?;
+            let kept = shapes.remove(at);
+            let a = Arc::clone(&kept.a);
+            shapes.insert(0, kept);
+            Some(a)
+        });
+        if let Some(a) = kept {
+            return a;
+        }
+        let a = Arc::new(matrix(form, shape));
+        SHAPES.with(|shapes| {
+            let mut shapes = shapes.borrow_mut();
+            shapes.insert(
+                0,
+                Kept {
+                    id,
+                    mu,
+                    drive: shape.drive.cloned(),
+                    a: Arc::clone(&a),
+                },
+            );
+            shapes.truncate(KEEP_SHAPES);
+        });
+        a
+    }
 }
 
 /// Columns per node of the 3D program: the edges of a regular polygon's cone that holds the
@@ -147,10 +223,49 @@ fn node_columns(w: &[f64], mu: f64, out: &mut [f64]) {
         }
     }
 }
+/// The matrix of the programs of `shape` (`3m + 1 + k` rows of the columns, row-major; see
+/// the module docs): the same for every node of a search that has the same `mu` and drive
+/// bounds, so built once and kept in `counters` ([`LpCounters::matrix`]).
+fn matrix(form: &Formulation, shape: Shape) -> Vec<f64> {
+    let m = form.m;
+    let d = form.dim;
+    let reactions = d * m;
+    let n = per_node(d) * m + form.amplitudes();
+    let rows = 3 * m + 1 + form.modes;
+    let mu = shape.mu;
+    let mut a = vec![0.0; n * rows];
+    let mut set_row = |k: usize, row: &[f64]| {
+        put_row(form, mu, row, &mut a[k * n..(k + 1) * n]);
+    };
+    let mut unit = vec![0.0; reactions];
+    for i in 0..m {
+        set_row(i, form.gap_row(i));
+        unit.iter_mut().for_each(|x| *x = 0.0);
+        unit[d * i] = 1.0;
+        set_row(m + i, &unit);
+    }
+    let all: Vec<f64> = (0..reactions)
+        .map(|c| if c % d == 0 { 1.0 } else { 0.0 })
+        .collect();
+    set_row(2 * m, &all);
+    for (j, row) in form.balance_rows().iter().enumerate() {
+        set_row(3 * m + 1 + j, row);
+    }
+    if let Some(drive) = shape.drive {
+        for (j, &(lo, hi)) in drive.iter().enumerate() {
+            if let Some(row) = cuts::row(form, j, lo, hi) {
+                set_row(2 * m + 1 + j, &row);
+            }
+        }
+    }
+    a
+}
+
 /// The program of `classes` at `shape`, normalised by `norm` ([`Norm::Sum`] or
 /// [`Norm::Pressed`]), minimising `objective` over the reaction components (none: zero).
 fn program(
     form: &Formulation,
+    counters: &LpCounters,
     classes: &[Class],
     shape: Shape,
     norm: Norm,
@@ -159,38 +274,18 @@ fn program(
     let m = form.m;
     let d = form.dim;
     let g = per_node(d);
-    let reactions = d * m;
     let n = g * m + form.amplitudes();
     let modes = form.modes;
     let rows = 3 * m + 1 + modes;
     let mu = shape.mu;
-    let mut lp = Lp::new(n, rows);
-    let set_row = |lp: &mut Lp, k: usize, row: &[f64]| {
-        put_row(form, mu, row, &mut lp.a[k * n..(k + 1) * n]);
-    };
-    let mut unit = vec![0.0; reactions];
-    for i in 0..m {
-        set_row(&mut lp, i, form.gap_row(i));
-        unit.iter_mut().for_each(|x| *x = 0.0);
-        unit[d * i] = 1.0;
-        set_row(&mut lp, m + i, &unit);
-    }
-    let all: Vec<f64> = (0..reactions)
-        .map(|c| if c % d == 0 { 1.0 } else { 0.0 })
-        .collect();
-    set_row(&mut lp, 2 * m, &all);
-    for (j, row) in form.balance_rows().iter().enumerate() {
-        let k = 3 * m + 1 + j;
-        set_row(&mut lp, k, row);
+    let mut lp = Lp::with_matrix(n, rows, counters.matrix(form, shape));
+    for k in 3 * m + 1..rows {
         (lp.lo[n + k], lp.hi[n + k]) = (0.0, 0.0);
     }
     if let Some(drive) = shape.drive {
         for (j, &(lo, hi)) in drive.iter().enumerate() {
-            if let Some(row) = cuts::row(form, j, lo, hi) {
-                set_row(&mut lp, 2 * m + 1 + j, &row);
-                if classes[j] == Class::Free {
-                    (lp.lo[n + 2 * m + 1 + j], lp.hi[n + 2 * m + 1 + j]) = (0.0, f64::INFINITY);
-                }
+            if cuts::has_row(lo, hi) && classes[j] == Class::Free {
+                (lp.lo[n + 2 * m + 1 + j], lp.hi[n + 2 * m + 1 + j]) = (0.0, f64::INFINITY);
             }
         }
     }
@@ -301,7 +396,7 @@ pub(crate) fn decide(
     objective: Option<&[f64]>,
     warm: Option<&Warm>,
 ) -> (Decision, Option<Warm>) {
-    let lp = program(form, classes, shape, norm, objective);
+    let lp = program(form, counters, classes, shape, norm, objective);
     let basis = start(warm, shape);
     let (answer, basis, stats) = simplex::solve(&lp, basis.as_ref());
     counters.pivots.fetch_add(stats.pivots, Ordering::Relaxed);

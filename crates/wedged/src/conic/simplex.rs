@@ -46,9 +46,13 @@
 
 mod active;
 mod check;
+mod dense;
 mod pool;
 
+use std::sync::Arc;
+
 use check::{check_certificate, check_point};
+use dense::{dot, invert, times};
 
 /// Feasibility and optimality tolerance, relative to the terms of each quantity.
 const TOL: f64 = 1e-9;
@@ -69,8 +73,12 @@ pub(crate) struct Lp {
     pub n: usize,
     /// Rows.
     pub rows: usize,
-    /// `A`, `rows x n`, row-major.
-    pub a: Vec<f64>,
+    /// The entries of `A`, row-major, shared by the programs of one shape (the search's
+    /// nodes differ in bounds and costs only, [`super::node_lp`]) and by the part of a program
+    /// that a solve works on ([`active::part`]).
+    a: Arc<Vec<f64>>,
+    /// The row of `a` that each row of the program is (`None`: row `k` is row `k`).
+    map: Option<Vec<usize>>,
     /// Bounds of the `n + rows` variables: columns, then row activities.
     pub lo: Vec<f64>,
     pub hi: Vec<f64>,
@@ -81,15 +89,35 @@ pub(crate) struct Lp {
 impl Lp {
     /// A program with `n` columns and `rows` rows, all zero, every variable free, no cost.
     pub(crate) fn new(n: usize, rows: usize) -> Lp {
+        Lp::with_matrix(n, rows, Arc::new(pool::zeroed(n * rows)))
+    }
+
+    /// A program with `n` columns and the `rows` rows of `a` (row-major), every variable
+    /// free, no cost.
+    pub(crate) fn with_matrix(n: usize, rows: usize, a: Arc<Vec<f64>>) -> Lp {
+        debug_assert_eq!(a.len(), n * rows);
         let total = n + rows;
         Lp {
             n,
             rows,
-            a: pool::zeroed(n * rows),
+            a,
+            map: None,
             lo: vec![f64::NEG_INFINITY; total],
             hi: vec![f64::INFINITY; total],
             cost: vec![0.0; total],
         }
+    }
+
+    /// The entries of `A`, row-major, to be written (copied first when shared).
+    pub(crate) fn a_mut(&mut self) -> &mut [f64] {
+        assert!(self.map.is_none(), "a part of a program is not written");
+        Arc::make_mut(&mut self.a).as_mut_slice()
+    }
+
+    /// Row `k` of `A`.
+    fn row(&self, k: usize) -> &[f64] {
+        let at = self.map.as_ref().map_or(k, |map| map[k]);
+        &self.a[at * self.n..(at + 1) * self.n]
     }
 
     fn total(&self) -> usize {
@@ -99,7 +127,7 @@ impl Lp {
     /// Entry `k` of column `j` of `[A  -I]`.
     fn entry(&self, k: usize, j: usize) -> f64 {
         if j < self.n {
-            self.a[k * self.n + j]
+            self.row(k)[j]
         } else if j - self.n == k {
             -1.0
         } else {
@@ -113,7 +141,7 @@ impl Lp {
         let mut out = vec![0.0; self.total()];
         for (k, &vk) in v.iter().enumerate() {
             if vk != 0.0 {
-                for (o, a) in out[..n].iter_mut().zip(&self.a[k * n..(k + 1) * n]) {
+                for (o, a) in out[..n].iter_mut().zip(self.row(k)) {
                     *o += vk * a;
                 }
                 out[n + k] = -vk;
@@ -125,7 +153,10 @@ impl Lp {
 
 impl Drop for Lp {
     fn drop(&mut self) {
-        pool::recycle(std::mem::take(&mut self.a));
+        let a = std::mem::replace(&mut self.a, Arc::new(Vec::new()));
+        if let Some(a) = Arc::into_inner(a) {
+            pool::recycle(a);
+        }
     }
 }
 
@@ -261,79 +292,6 @@ pub(crate) fn solve(lp: &Lp, start: Option<&Basis>) -> (Answer, Basis, Stats) {
     (Answer::Failed(last), active::slack(lp), stats)
 }
 
-/// The inverse of the basis matrix of `head` (Gauss-Jordan with partial pivoting), `None` when
-/// it is singular.
-fn invert(lp: &Lp, head: &[usize]) -> Option<Vec<f64>> {
-    let r = lp.rows;
-    // [B | I], row-major, 2r wide.
-    let w = 2 * r;
-    let mut m = pool::zeroed(r * w);
-    for (c, &j) in head.iter().enumerate() {
-        for k in 0..r {
-            m[k * w + c] = lp.entry(k, j);
-        }
-    }
-    for k in 0..r {
-        m[k * w + r + k] = 1.0;
-    }
-    let scale = m.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-    for c in 0..r {
-        let p = (c..r).max_by(|&a, &b| m[a * w + c].abs().total_cmp(&m[b * w + c].abs()))?;
-        let pivot = m[p * w + c];
-        if pivot.abs() <= 1e-12 * scale {
-            return None;
-        }
-        if p != c {
-            for x in 0..w {
-                m.swap(p * w + x, c * w + x);
-            }
-        }
-        let inv_p = 1.0 / pivot;
-        for x in 0..w {
-            m[c * w + x] *= inv_p;
-        }
-        let pivot_row: Vec<f64> = m[c * w..(c + 1) * w].to_vec();
-        for k in (0..r).filter(|&k| k != c) {
-            let f = m[k * w + c];
-            if f != 0.0 {
-                for (a, b) in m[k * w..(k + 1) * w].iter_mut().zip(&pivot_row) {
-                    *a -= f * b;
-                }
-            }
-        }
-    }
-    let mut inv = pool::zeroed(r * r);
-    for k in 0..r {
-        inv[k * r..(k + 1) * r].copy_from_slice(&m[k * w + r..(k + 1) * w]);
-    }
-    pool::recycle(m);
-    Some(inv)
-}
-
-/// The square row-major matrix `inv` times `v`.
-fn times(inv: &[f64], v: &[f64]) -> Vec<f64> {
-    inv.chunks(v.len()).map(|row| dot(row, v)).collect()
-}
-
-/// `a . b` with eight partial sums, which the compiler vectorises (a plain sum of products it
-/// may not reorder).
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    let mut acc = [0.0f64; 8];
-    let (a8, b8) = (a.chunks_exact(8), b.chunks_exact(8));
-    let tail: f64 = a8
-        .remainder()
-        .iter()
-        .zip(b8.remainder())
-        .map(|(x, y)| x * y)
-        .sum();
-    for (x, y) in a8.zip(b8) {
-        for k in 0..8 {
-            acc[k] += x[k] * y[k];
-        }
-    }
-    acc.iter().sum::<f64>() + tail
-}
-
 /// What a run ends in, before the check.
 enum Outcome {
     Optimal,
@@ -395,18 +353,31 @@ impl<'a> Run<'a> {
 
     /// Basic values from the nonbasic ones: `x_B = -B^-1 N x_N`.
     fn primal(&mut self) {
-        let (lp, r) = (self.lp, self.lp.rows);
-        let mut rhs = vec![0.0; r];
-        for j in (0..lp.total()).filter(|&j| self.basis.at[j] != At::Basic && self.x[j] != 0.0) {
-            let v = self.x[j];
-            if j < lp.n {
-                for (k, o) in rhs.iter_mut().enumerate() {
-                    *o -= lp.a[k * lp.n + j] * v;
+        let lp = self.lp;
+        let n = lp.n;
+        // The nonbasic columns' values (zero at the basic ones).
+        let xn: Vec<f64> = (0..n)
+            .map(|j| {
+                if self.basis.at[j] == At::Basic {
+                    0.0
+                } else {
+                    self.x[j]
                 }
-            } else {
-                rhs[j - lp.n] += v;
-            }
-        }
+            })
+            .collect();
+        let any = xn.iter().any(|&v| v != 0.0);
+        let rhs: Vec<f64> = (0..lp.rows)
+            .map(|k| {
+                let from_columns = if any { -dot(lp.row(k), &xn) } else { 0.0 };
+                let j = n + k;
+                let own = if self.basis.at[j] != At::Basic {
+                    self.x[j]
+                } else {
+                    0.0
+                };
+                from_columns + own
+            })
+            .collect();
         let xb = times(self.inv(), &rhs);
         for (k, v) in xb.into_iter().enumerate() {
             let j = self.basis.head[k];
@@ -495,7 +466,7 @@ impl<'a> Run<'a> {
         let (lp, r) = (self.lp, self.lp.rows);
         let inv = self.inv();
         if q < lp.n {
-            let col: Vec<f64> = (0..r).map(|k| lp.a[k * lp.n + q]).collect();
+            let col: Vec<f64> = (0..r).map(|k| lp.row(k)[q]).collect();
             times(inv, &col)
         } else {
             let i = q - lp.n;

@@ -19,6 +19,7 @@
 //! activities are all recomputed, a certificate has zero multipliers on the rows left out.
 
 use std::borrow::Cow;
+use std::sync::Arc;
 
 use super::{pool, At, Basis, Lp};
 
@@ -96,12 +97,13 @@ pub(super) fn adapt(lp: &Lp, start: &Basis) -> Basis {
         // its column's entry, zero at another row's activity), then -1 on its own.
         for (t, &k) in added.iter().enumerate() {
             let row = kept + t;
+            let a_k = lp.row(k);
             for p2 in 0..kept {
                 let j = head[p2];
                 if j >= n {
                     continue;
                 }
-                let a = lp.a[k * n + j];
+                let a = a_k[j];
                 if a != 0.0 {
                     for c2 in 0..kept {
                         inv[row * r + c2] += a * inv[p2 * r + c2];
@@ -125,22 +127,33 @@ fn whole(lp: &Lp, rows: &[usize]) -> bool {
     rows.len() == lp.rows && rows.iter().enumerate().all(|(i, &k)| i == k)
 }
 
-/// The program on `rows` only (its activities numbered `n + i` in the order of `rows`).
+/// The program on `rows` only (its activities numbered `n + i` in the order of `rows`; its
+/// matrix shared with `lp`'s).
 pub(super) fn part<'a>(lp: &'a Lp, rows: &[usize]) -> Cow<'a, Lp> {
     if whole(lp, rows) {
         return Cow::Borrowed(lp);
     }
     let n = lp.n;
-    let mut out = Lp::new(n, rows.len());
-    for (i, &k) in rows.iter().enumerate() {
-        out.a[i * n..(i + 1) * n].copy_from_slice(&lp.a[k * n..(k + 1) * n]);
-    }
-    for (j, src) in (0..n).chain(rows.iter().map(|&k| n + k)).enumerate() {
-        out.lo[j] = lp.lo[src];
-        out.hi[j] = lp.hi[src];
-        out.cost[j] = lp.cost[src];
-    }
-    Cow::Owned(out)
+    let map = rows
+        .iter()
+        .map(|&k| lp.map.as_ref().map_or(k, |map| map[k]))
+        .collect();
+    let pick = |v: &[f64]| -> Vec<f64> {
+        v[..n]
+            .iter()
+            .chain(rows.iter().map(|&k| &v[n + k]))
+            .copied()
+            .collect()
+    };
+    Cow::Owned(Lp {
+        n,
+        rows: rows.len(),
+        a: Arc::clone(&lp.a),
+        map: Some(map),
+        lo: pick(&lp.lo),
+        hi: pick(&lp.hi),
+        cost: pick(&lp.cost),
+    })
 }
 
 /// `basis` (whole numbering, over `basis.rows`) in the numbering of [`part`].

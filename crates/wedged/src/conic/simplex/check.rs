@@ -1,6 +1,7 @@
 //! The checks of the simplex method's answers (see the module docs of [`super`]): an optimal
 //! point against every bound, an infeasibility certificate against the bounds of every variable.
 
+use super::dense::dot_terms;
 use super::{Answer, Lp, CERT, TINY, TOL};
 
 /// The optimal point of columns `x`: row activities recomputed, every bound checked (see the
@@ -13,9 +14,9 @@ pub(super) fn check_point(lp: &Lp, x: &[f64]) -> Result<Answer, String> {
         terms[j] = v.abs();
     }
     for k in 0..lp.rows {
-        let row = &lp.a[k * n..(k + 1) * n];
-        all.push(row.iter().zip(x).map(|(a, b)| a * b).sum());
-        terms[n + k] = row.iter().zip(x).map(|(a, b)| (a * b).abs()).sum();
+        let (activity, size) = dot_terms(lp.row(k), x);
+        all.push(activity);
+        terms[n + k] = size;
     }
     for (j, &v) in all.iter().enumerate() {
         if !v.is_finite() {
@@ -87,7 +88,7 @@ fn effective_bounds(lp: &Lp, y: &[f64]) -> Vec<(f64, f64)> {
     let n = lp.n;
     let mut out: Vec<(f64, f64)> = (0..lp.total()).map(|j| (lp.lo[j], lp.hi[j])).collect();
     for k in (0..lp.rows).filter(|&k| y[k] != 0.0) {
-        let row = &lp.a[k * n..(k + 1) * n];
+        let row = lp.row(k);
         let (mut lo, mut hi) = (0.0, 0.0);
         for (j, &a) in row.iter().enumerate() {
             if a == 0.0 {

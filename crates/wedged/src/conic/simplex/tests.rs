@@ -13,7 +13,7 @@ fn random_lp(rng: &mut ChaCha8Rng) -> Lp {
     let n = rng.gen_range(2..10);
     let rows = rng.gen_range(1..10);
     let mut lp = Lp::new(n, rows);
-    for a in &mut lp.a {
+    for a in lp.a_mut() {
         *a = if rng.gen_bool(0.8) {
             rng.gen_range(-1.0..1.0)
         } else {
@@ -42,7 +42,7 @@ fn random_lp(rng: &mut ChaCha8Rng) -> Lp {
     if rng.gen_bool(0.8) {
         for k in 0..rows.min(1) {
             for j in 0..n {
-                lp.a[k * n + j] = 1.0;
+                lp.a_mut()[k * n + j] = 1.0;
             }
             (lp.lo[n + k], lp.hi[n + k]) = (1.0, 1.0);
         }
@@ -63,7 +63,7 @@ fn reference(lp: &Lp) -> socp::Answer {
     let mut p = Program::new(total);
     for k in 0..lp.rows {
         let mut terms: Vec<(usize, f64)> = (0..lp.n)
-            .map(|j| (j, lp.a[k * lp.n + j]))
+            .map(|j| (j, lp.row(k)[j]))
             .filter(|t| t.1 != 0.0)
             .collect();
         terms.push((lp.n + k, -1.0));
@@ -176,7 +176,7 @@ fn random_programs_cold_and_warm_agree_with_clarabel() {
 fn small_known_programs() {
     // x0 + x1 = 1, x0 - x1 >= 0.5, minimise x0: x = (0.75, 0.25).
     let mut lp = Lp::new(2, 2);
-    lp.a = vec![1.0, 1.0, 1.0, -1.0];
+    lp.a_mut().copy_from_slice(&[1.0, 1.0, 1.0, -1.0]);
     (lp.lo, lp.hi) = (
         vec![0.0, 0.0, 1.0, 0.5],
         vec![f64::INFINITY, f64::INFINITY, 1.0, f64::INFINITY],
@@ -210,7 +210,7 @@ fn small_known_programs() {
 fn certificate_terms_count_against_finite_bounds() {
     let verdict = |x_hi: f64| {
         let mut lp = Lp::new(1, 1);
-        lp.a[0] = 1e-13;
+        lp.a_mut()[0] = 1e-13;
         (lp.lo[0], lp.hi[0]) = (0.0, x_hi);
         (lp.lo[1], lp.hi[1]) = (1.0, f64::INFINITY);
         matches!(
@@ -225,7 +225,7 @@ fn certificate_terms_count_against_finite_bounds() {
     // s >= 1 - 10 is possible... and s = 0 needs z = 1e13: feasible. Certificate y = 1 on
     // `s <= 0` (c = (1, -1e-13, -1)): least over the box is 1 - 1e-13 * 1e14 - 0 < 0.
     let mut lp = Lp::new(2, 1);
-    (lp.a[0], lp.a[1]) = (1.0, -1e-13);
+    lp.a_mut().copy_from_slice(&[1.0, -1e-13]);
     (lp.lo[0], lp.hi[0]) = (1.0, 1.0);
     (lp.lo[1], lp.hi[1]) = (0.0, 1e14);
     (lp.lo[2], lp.hi[2]) = (f64::NEG_INFINITY, 0.0);

@@ -16,9 +16,10 @@ pub(super) fn by_simplex(form: &Form) -> Option<Result<Answer, String>> {
     }
     let (n, rows) = (form.n, form.rows.len());
     let mut lp = simplex::Lp::new(n, rows);
+    let a = lp.a_mut();
     for (k, row) in form.rows.iter().enumerate() {
         for &(j, c) in &row.terms {
-            lp.a[k * n + j] = c;
+            a[k * n + j] = c;
         }
     }
     for con in &form.cons {
