@@ -26,8 +26,9 @@
 //!   reactions, then the `k` amplitudes (`0` for a mode without a column), as
 //!   [`Formulation`]'s programs give.
 //!
-//! The matrix depends on `mu` and on the drive bounds only; a [`Warm`] basis made for other
-//! ones keeps its basic set but forgets its inverse.
+//! The matrix depends on `mu` and on the drive bounds only: it is built once per such shape
+//! and shared by the shape's programs (each thread keeps the last few, [`LpCounters`]), and a
+//! [`Warm`] basis made for other ones keeps its basic set but forgets its inverse.
 //!
 //! **Answers** are checked by [`super::simplex`] as [`super::socp`] checks Clarabel's. A
 //! program the simplex method cannot decide goes to Clarabel
@@ -225,7 +226,7 @@ fn node_columns(w: &[f64], mu: f64, out: &mut [f64]) {
 }
 /// The matrix of the programs of `shape` (`3m + 1 + k` rows of the columns, row-major; see
 /// the module docs): the same for every node of a search that has the same `mu` and drive
-/// bounds, so built once and kept in `counters` ([`LpCounters::matrix`]).
+/// bounds, so built once and kept by each thread that uses it ([`LpCounters::matrix`]).
 fn matrix(form: &Formulation, shape: Shape) -> Vec<f64> {
     let m = form.m;
     let d = form.dim;
