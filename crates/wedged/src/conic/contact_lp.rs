@@ -71,12 +71,17 @@ impl<'f> ContactLp<'f> {
         let balance = form.balance_rows();
         let rows = m + q + 1 + balance.len();
         let mut lp = Lp::new(n, rows);
-        let mut a = vec![0.0; n * rows];
         for i in 0..m {
-            node_lp::put_row(form, mu, form.gap_row(i), &mut a[i * n..(i + 1) * n]);
+            node_lp::put_row(
+                form,
+                mu,
+                form.gap_row(i),
+                &mut lp.a_mut()[i * n..(i + 1) * n],
+            );
         }
         for (k, e) in entries.iter().enumerate() {
             let row = m + k;
+            let a = lp.a_mut();
             match *e {
                 Entry2::Edge(col) => a[row * n + col] = 1.0,
                 Entry2::Gap(i) => {
@@ -91,16 +96,16 @@ impl<'f> ContactLp<'f> {
             (lp.lo[n + row], lp.hi[n + row]) = (0.0, f64::INFINITY);
         }
         let total = m + q;
+        let a = lp.a_mut();
         for c in 0..n0 {
             a[total * n + c] = 1.0;
         }
         (lp.lo[n + total], lp.hi[n + total]) = (0.0, SUPPORT_SCALE);
         for (j, row) in balance.iter().enumerate() {
             let k = total + 1 + j;
-            node_lp::put_row(form, mu, row, &mut a[k * n..(k + 1) * n]);
+            node_lp::put_row(form, mu, row, &mut lp.a_mut()[k * n..(k + 1) * n]);
             (lp.lo[n + k], lp.hi[n + k]) = (0.0, 0.0);
         }
-        lp.a_mut().copy_from_slice(&a);
         for (i, &c) in classes.iter().enumerate() {
             let hi = if c.has_r() { f64::INFINITY } else { 0.0 };
             for col in [2 * i, 2 * i + 1] {

@@ -114,9 +114,14 @@ impl Lp {
         Arc::make_mut(&mut self.a).as_mut_slice()
     }
 
+    /// The row of the shared matrix that row `k` of the program is.
+    fn source_row(&self, k: usize) -> usize {
+        self.map.as_ref().map_or(k, |map| map[k])
+    }
+
     /// Row `k` of `A`.
     fn row(&self, k: usize) -> &[f64] {
-        let at = self.map.as_ref().map_or(k, |map| map[k]);
+        let at = self.source_row(k);
         &self.a[at * self.n..(at + 1) * self.n]
     }
 

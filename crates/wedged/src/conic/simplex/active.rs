@@ -134,10 +134,7 @@ pub(super) fn part<'a>(lp: &'a Lp, rows: &[usize]) -> Cow<'a, Lp> {
         return Cow::Borrowed(lp);
     }
     let n = lp.n;
-    let map = rows
-        .iter()
-        .map(|&k| lp.map.as_ref().map_or(k, |map| map[k]))
-        .collect();
+    let map = rows.iter().map(|&k| lp.source_row(k)).collect();
     let pick = |v: &[f64]| -> Vec<f64> {
         v[..n]
             .iter()
