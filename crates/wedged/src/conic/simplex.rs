@@ -41,8 +41,15 @@
 //!   otherwise entries of `c` against an infinite bound must be tiny (`<= TINY ||c||_inf`) and
 //!   are dropped, and a feasible point would then need entries more than `CERT / TINY` times
 //!   the bounds. (The same argument as Clarabel's certificates in [`super::socp`].)
+//! - An optimal point that fails its check: the inverse, updated at each pivot, has drifted
+//!   (an ill-conditioned basis, as the support programs of `contact_lp` have at m = 80); it is
+//!   refactored and the run resumed from that basis, up to [`REFINE`] times.
 //! - A failed check, a singular basis or too many pivots: one retry from the slack basis, then
 //!   `Failed` with the reason, and the caller asks Clarabel.
+//!
+//! **Feasibility programs** (no costs at all) are dual degenerate at every basis, and the dual
+//! method could cycle on them; their nonbasic variables get small distinct costs
+//! ([`PERTURB`]) for the dual method, dropped before the primal one.
 
 mod active;
 mod check;
@@ -65,6 +72,11 @@ const TINY: f64 = 1e-12;
 /// Values and reduced costs, updated at each pivot, are recomputed from the inverse after
 /// this many pivots (and before every verdict).
 const REFRESH: u64 = 32;
+/// How many times a basis whose optimal point fails its check is refactored and the run
+/// resumed from it ([`solve`]).
+const REFINE: usize = 2;
+/// The size of the costs that a program without costs gets for its dual method ([`Run::phases`]).
+const PERTURB: f64 = 1e-7;
 
 /// A linear program in the bounded form of the module docs.
 #[derive(Debug, Clone)]
@@ -280,18 +292,35 @@ pub(crate) fn solve(lp: &Lp, start: Option<&Basis>) -> (Answer, Basis, Stats) {
             }
         }
         let mut run = Run::new(&part, basis);
-        // Checked on the whole program.
-        let answer = run.solve(&mut stats).and_then(|outcome| match outcome {
-            Outcome::Optimal => check_point(lp, &run.x[..lp.n]),
-            Outcome::Infeasible(p) => {
-                let r = part.rows;
-                let y = active::spread(lp.rows, &rows, &run.inv()[p * r..(p + 1) * r]);
-                check_certificate(lp, &y)
+        for refined in 0..=REFINE {
+            // Checked on the whole program.
+            let mut optimal = false;
+            let answer = run.solve(&mut stats).and_then(|outcome| match outcome {
+                Outcome::Optimal => {
+                    optimal = true;
+                    check_point(lp, &run.x[..lp.n])
+                }
+                Outcome::Infeasible(p) => {
+                    let r = part.rows;
+                    let y = active::spread(lp.rows, &rows, &run.inv()[p * r..(p + 1) * r]);
+                    check_certificate(lp, &y)
+                }
+            });
+            match answer {
+                Ok(answer) => return (answer, active::from_part(lp, &rows, run.basis), stats),
+                Err(why) => last = why,
             }
-        });
-        match answer {
-            Ok(answer) => return (answer, active::from_part(lp, &rows, run.basis), stats),
-            Err(why) => last = why,
+            // An optimal point that fails its check: the inverse, updated at each pivot, has
+            // drifted (an ill-conditioned basis). Refactor it and resume from that basis.
+            if !optimal || refined == REFINE {
+                break;
+            }
+            let mut basis = run.basis;
+            match invert(&part, &basis.head) {
+                Some(inv) => basis.inv = Some(inv),
+                None => break,
+            }
+            run = Run::new(&part, basis);
         }
     }
     (Answer::Failed(last), active::slack(lp), stats)
@@ -489,8 +518,20 @@ impl<'a> Run<'a> {
         if infeasible {
             // Shift costs to make the start dual feasible, then the dual method.
             let mut shifted = false;
+            // A program without costs (a feasibility question) is dual degenerate at every
+            // basis: every ratio test ties, and the dual method could cycle (on issue 20's
+            // plug at m = 80 some tightening nodes' first programs ran into the pivot limit).
+            // Each nonbasic variable then gets a small cost of the right sign, a different
+            // one for each, dropped with the shifts once the basis is primal feasible.
+            let perturb = lp.cost.iter().all(|&c| c == 0.0);
             for j in 0..lp.total() {
-                if self.dual_wrong(j) {
+                let at = self.basis.at[j];
+                if perturb && at != At::Basic && at != At::Zero && lp.lo[j] != lp.hi[j] {
+                    let spread = ((j as u64).wrapping_mul(2_654_435_761) % 1024) as f64 / 1024.0;
+                    let size = PERTURB * (1.0 + spread);
+                    self.cost[j] = if at == At::Lower { size } else { -size };
+                    shifted = true;
+                } else if self.dual_wrong(j) {
                     self.cost[j] -= self.d[j];
                     shifted = true;
                 }

@@ -170,6 +170,43 @@ fn random_programs_cold_and_warm_agree_with_clarabel() {
     assert!(warm_pivots < cold_pivots, "{warm_pivots} {cold_pivots}");
 }
 
+/// Feasibility programs (no costs at all, which the dual method perturbs, see the module
+/// docs) agree with Clarabel, cold and warm-started from another program's basis, and none
+/// fails; a feasible one's point is checked like any optimum.
+#[test]
+fn feasibility_programs_agree_with_clarabel() {
+    let mut rng = ChaCha8Rng::seed_from_u64(43);
+    let (mut compared, mut feasible, mut infeasible) = (0, 0, 0);
+    for case in 0..400 {
+        let first = random_lp(&mut rng);
+        let (_, basis, _) = solve(&first, None);
+        let mut lp = first.clone();
+        lp.cost.iter_mut().for_each(|c| *c = 0.0);
+        if rng.gen_bool(0.5) {
+            let j = rng.gen_range(0..lp.n);
+            (lp.lo[j], lp.hi[j]) = (0.0, 0.0);
+        }
+        for (start, what) in [(None, "cold"), (Some(&basis), "warm")] {
+            let (answer, _, _) = solve(&lp, start);
+            if agree(&lp, &answer, &format!("case {case}, {what}")) {
+                compared += 1;
+            }
+            match answer {
+                Answer::Optimal { value, .. } => {
+                    assert_eq!(value, 0.0, "case {case}: the perturbation left a cost");
+                    feasible += 1;
+                }
+                Answer::Infeasible { .. } => infeasible += 1,
+                Answer::Failed(why) => panic!("case {case}, {what}: {why}"),
+            }
+        }
+    }
+    assert!(
+        compared > 700 && feasible > 150 && infeasible > 150,
+        "{compared} {feasible} {infeasible}"
+    );
+}
+
 /// A program whose only point is known, and an infeasible one whose certificate is the
 /// obvious one.
 #[test]
