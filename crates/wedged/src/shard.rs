@@ -128,8 +128,9 @@ pub struct ShardReport {
     pub units: usize,
     /// Of those, this shard's.
     pub own_units: usize,
-    /// Search nodes this shard visited to find the split (the top of the tree, every shard's
-    /// work, solved again at each deepening).
+    /// Search nodes this shard decided to find the split (the top of the tree, every shard's
+    /// work: the nodes above [`Tree::keep_depth`] once, the deeper ones again at each
+    /// deepening).
     pub split_nodes: u64,
 }
 
@@ -247,12 +248,14 @@ impl<'t, T: Tree> Walk<'t, T> {
         rehearsal: bool,
     ) -> Option<(T::Node, T::Node)> {
         if depth >= self.tree.keep_depth() {
+            self.split_nodes.fetch_add(1, Ordering::Relaxed);
             return self.tree.visit(node, depth, rehearsal);
         }
         let key = (depth, path);
         if let Some(children) = self.kept.lock().expect("no panics while held").get(&key) {
             return Some(children.clone());
         }
+        self.split_nodes.fetch_add(1, Ordering::Relaxed);
         let children = self.tree.visit(node, depth, rehearsal)?;
         self.kept
             .lock()
@@ -410,7 +413,6 @@ impl<'t, T: Tree> Walk<'t, T> {
             top.units.push(self.tree.shelve(node));
             return top;
         }
-        self.split_nodes.fetch_add(1, Ordering::Relaxed);
         let leaf = self.tree.is_leaf(&node).then(|| node.clone());
         match self.visit_top(node, depth, path, true) {
             None => {

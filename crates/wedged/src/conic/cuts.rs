@@ -113,6 +113,24 @@ pub(crate) fn rows(form: &Formulation, classes: &[Class], drive: &[(f64, f64)]) 
         .collect()
 }
 
+/// The largest share of its width by which a bound interval of `old` shrank in `new` (1 when
+/// an infinite end became finite; 0 for an empty or a point interval).
+pub(crate) fn largest_shrink(old: &[(f64, f64)], new: &[(f64, f64)]) -> f64 {
+    old.iter()
+        .zip(new)
+        .map(|(&(lo, hi), &(new_lo, new_hi))| {
+            let width = hi - lo;
+            if (!lo.is_finite() && new_lo.is_finite()) || (!hi.is_finite() && new_hi.is_finite()) {
+                1.0
+            } else if !width.is_finite() || width <= 0.0 {
+                0.0
+            } else {
+                ((new_lo - lo) + (hi - new_hi)) / width
+            }
+        })
+        .fold(0.0, f64::max)
+}
+
 /// Bound tightening at a search node: for every free node of `classes`, the least and the
 /// greatest drive over its relaxation at a finite `mu` with `sum r_n = 1` and the cuts of
 /// `drive`, intersected with `drive`. `minimise` solves that relaxation with a linear
@@ -266,6 +284,62 @@ mod tests {
         assert!(
             rows_seen > 100 && checked > 100 && tight > 10 && simplex_solves > 100,
             "{rows_seen} {checked} {tight} {simplex_solves}"
+        );
+    }
+
+    /// A settled root ([`lp::tighten_node`] with `settle`) bounds every extreme ray's drive
+    /// (so, the cone being their combinations, every solution's) and is at least as tight as
+    /// one round; on some problems it is tighter.
+    #[test]
+    fn settled_bounds_keep_every_solution_and_tighten() {
+        let (mut checked, mut tighter) = (0, 0);
+        for seed in 0..30u64 {
+            let m = 3 + (seed % 4) as usize;
+            let problem = random_spd_problem(m, 2.5, 9100 + seed);
+            let rays = enumerate(&problem, &Settings::default()).unwrap().rays;
+            let form = Formulation::new(&problem);
+            let classes = vec![Class::Free; m];
+            let counters = LpCounters::default();
+            let shape = Shape {
+                mu: problem.mu(),
+                drive: None,
+            };
+            let once = lp::tighten_node(&form, &counters, &classes, shape, None, false);
+            let settled = lp::tighten_node(&form, &counters, &classes, shape, None, true);
+            let (Some((once, _)), Some((settled, _))) = (once, settled) else {
+                assert!(rays.is_empty(), "seed {seed}: a root with solutions pruned");
+                continue;
+            };
+            for j in 0..m {
+                let (lo, hi) = settled[j];
+                assert!(
+                    lo >= once[j].0 && hi <= once[j].1,
+                    "seed {seed}: node {j} looser"
+                );
+                tighter += usize::from(lo > once[j].0 + 1e-9 || hi < once[j].1 - 1e-9);
+                let w = drive_row(&form, j);
+                for ray in &rays {
+                    let s: f64 = (0..m).map(|i| ray.r[2 * i]).sum();
+                    let v: f64 = w.iter().zip(&ray.r).map(|(a, b)| a * b).sum::<f64>() / s;
+                    assert!(
+                        v >= lo - 1e-9 && v <= hi + 1e-9,
+                        "seed {seed}: node {j}'s drive {v} outside [{lo}, {hi}]"
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 100 && tighter > 0, "{checked} {tighter}");
+    }
+
+    #[test]
+    fn largest_shrink_measures_the_intervals() {
+        let old = [(f64::NEG_INFINITY, f64::INFINITY), (0.0, 4.0), (1.0, 1.0)];
+        assert_eq!(largest_shrink(&old[1..], &[(1.0, 4.0), (1.0, 1.0)]), 0.25);
+        assert_eq!(largest_shrink(&old[1..], &old[1..]), 0.0);
+        assert_eq!(
+            largest_shrink(&old, &[(-1.0, f64::INFINITY), old[1], old[2]]),
+            1.0
         );
     }
 

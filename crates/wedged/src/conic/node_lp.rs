@@ -465,22 +465,63 @@ pub(crate) fn relaxation<'a>(
 /// `None` when the relaxation is infeasible (the subtree holds no solution at `shape.mu` or
 /// below). The relaxation is solved first from `warm`, so that an infeasible node costs one
 /// program.
+///
+/// With `settle`, the tightening is repeated with the cuts of the bounds it found until no
+/// bound interval shrinks by more than [`SETTLED`] of its width (at most [`SETTLE_ROUNDS`]
+/// rounds): each round's cuts tighten the next round's relaxation. The searches settle their
+/// root's bounds, which every node inherits. (Measured on issue 20's plug, `enumerate`, whole
+/// process: m = 60, the root tightened once, 3, 8, 12, 20 times: 46.5k, 41.6k, 27.1k, 22.8k,
+/// 16.2k nodes, 1.03M, 0.93M, 0.67M, 0.64M, 0.62M pivots; settled, 17.2k nodes, 0.59M pivots.)
 pub(crate) fn tighten_node(
     form: &Formulation,
     counters: &LpCounters,
     classes: &[Class],
     shape: Shape,
     warm: Option<&Warm>,
+    settle: bool,
 ) -> Option<(Drive, Option<Warm>)> {
-    let (first, basis) = decide(form, counters, classes, shape, Norm::Sum, None, warm);
-    if first == Decision::No {
-        return None;
+    let mut known: Option<Arc<Drive>> = shape.drive.cloned();
+    let mut warm = warm.cloned();
+    let rounds = if settle { SETTLE_ROUNDS } else { 1 };
+    for _ in 0..rounds {
+        let round = Shape {
+            mu: shape.mu,
+            drive: known.as_ref(),
+        };
+        let (first, basis) = decide(
+            form,
+            counters,
+            classes,
+            round,
+            Norm::Sum,
+            None,
+            warm.as_ref(),
+        );
+        if first == Decision::No {
+            return None;
+        }
+        let start = basis.or(warm);
+        let minimise = relaxation(form, counters, classes, round, start.clone());
+        let tight = cuts::tighten(form, classes, known.as_deref(), &minimise)?;
+        drop(minimise);
+        let shrink = known
+            .as_deref()
+            .map_or(1.0, |old| cuts::largest_shrink(old, &tight));
+        known = Some(Arc::new(tight));
+        warm = start;
+        if shrink <= SETTLED {
+            break;
+        }
     }
-    let start = basis.or_else(|| warm.cloned());
-    let minimise = relaxation(form, counters, classes, shape, start.clone());
-    let tight = cuts::tighten(form, classes, shape.drive.map(|d| &**d), &minimise)?;
-    Some((tight, start))
+    let tight = known.map(Arc::unwrap_or_clone)?;
+    Some((tight, warm))
 }
+
+/// A settled tightening ([`tighten_node`]) stops when no bound interval shrinks by more than
+/// this share of its width...
+const SETTLED: f64 = 0.05;
+/// ... or after this many rounds.
+const SETTLE_ROUNDS: usize = 30;
 
 /// The objective that asks a search node's program for a vertex: the least total of the
 /// `free` nodes' scaled gaps and pressures (a point at which few free nodes break

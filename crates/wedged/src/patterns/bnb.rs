@@ -168,9 +168,17 @@ impl shard::Tree for Search<'_, '_> {
                 mu: self.form.mu,
                 drive: drive.as_ref(),
             };
-            let Some((tight, start)) =
-                lp::tighten_node(self.form, &self.lp, &classes, shape, warm.as_deref())
-            else {
+            // The root settles its bounds (3D V-groove plug, m = 20, `enumerate` at 1.2 `mu*`:
+            // 25.2k nodes and 3.8 s without, 23.0k and 3.3 s with).
+            let settle = depth == 0 && classes.iter().all(|&c| c == Class::Free);
+            let Some((tight, start)) = lp::tighten_node(
+                self.form,
+                &self.lp,
+                &classes,
+                shape,
+                warm.as_deref(),
+                settle,
+            ) else {
                 self.pruned_infeasible.fetch_add(1, Ordering::Relaxed);
                 return None;
             };

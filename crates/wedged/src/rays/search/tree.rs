@@ -45,15 +45,18 @@ use crate::shard::{self, Explored, Shard, ShardReport, Walk};
 /// as zero when deciding whether a child inherits it.
 const INHERIT_ZERO: f64 = 1e-9;
 
-/// Search nodes at depths below [`tighten_depth`], `max(TIGHTEN_DEPTH, 3 (m - 20) / 20)`, bound
+/// Search nodes at depths below [`tighten_depth`], `max(TIGHTEN_DEPTH, (m - 20) / 10)`, bound
 /// the drives of their free nodes ([`cuts::tighten`], two programs per free node) and hand the
-/// cuts down to their subtrees. Deeper tightening visits fewer nodes but solves more programs.
-/// (Measured on issue 20's plug, whole process, 2 threads: m = 40, depths 3, 4, 6, 8: 1.1, 1.3,
-/// 1.8, 2.1 s (7.6k, 8.4k, 3.1k, 3.8k nodes); m = 50, depths 4, 6: 4.6, 6.3 s. Since the
-/// simplex method leaves idle rows out (2026-11-26): m = 60, depths 4, 6, 8, 10: 13.6, 12.8,
-/// 15.1, 18.6 s (87k, 48k, 32k, 22k nodes); m = 80, depths 5, 7, 9, 11: 245, 114, 99, 123 s
-/// (844k, 270k, 130k, 114k nodes). The best depth grows by about 3 per 20 nodes: 3 at 40, 6 at
-/// 60, 9 at 80.)
+/// cuts down to their subtrees; the root settles its bounds ([`node_lp::tighten_node`]).
+/// Deeper tightening visits fewer nodes but solves more programs. (Measured on issue 20's
+/// plug, whole process, 2 threads: m = 40, depths 3, 4, 6, 8: 1.1, 1.3, 1.8, 2.1 s (7.6k,
+/// 8.4k, 3.1k, 3.8k nodes); m = 50, depths 4, 6: 4.6, 6.3 s. Since the simplex method leaves
+/// idle rows out (2026-11-26): m = 60, depths 4, 6, 8, 10: 13.6, 12.8, 15.1, 18.6 s (87k,
+/// 48k, 32k, 22k nodes); m = 80, depths 5, 7, 9, 11: 245, 114, 99, 123 s (844k, 270k, 130k,
+/// 114k nodes). With the root's bounds settled (2026-11-27): m = 60, depths 3, 4, 6, 8: 0.53M,
+/// 0.52M, 0.59M, 0.70M pivots (5.1, 5.1, 5.9, 6.9 s); m = 80, depths 4, 5, 6, 7, 9: 3.19M,
+/// 3.58M, 3.60M, 3.84M, 4.12M pivots (47, 48, 41, 53, 61 s): the best depth now grows by about
+/// 2 per 20 nodes.)
 const TIGHTEN_DEPTH: usize = 3;
 
 /// What the search found and what it cost.
@@ -292,8 +295,10 @@ impl shard::Tree for Search<'_, '_> {
                 mu: form.mu,
                 drive: drive.as_ref(),
             };
+            // The root of the whole search settles its bounds (every node inherits them).
+            let settle = depth == 0 && classes.iter().all(|&c| c == Class::Free);
             let Some((tight, start)) =
-                node_lp::tighten_node(form, counters, &classes, shape, warm.as_deref())
+                node_lp::tighten_node(form, counters, &classes, shape, warm.as_deref(), settle)
             else {
                 self.pruned.fetch_add(1, Ordering::Relaxed);
                 return None;
@@ -412,5 +417,5 @@ impl shard::Tree for Search<'_, '_> {
 /// The depth down to which search nodes tighten the drive bounds of a problem of `m` nodes
 /// (nodes at depths below it tighten; the rest inherit the bounds).
 pub(crate) fn tighten_depth(m: usize) -> usize {
-    TIGHTEN_DEPTH.max(3 * m.saturating_sub(20) / 20)
+    TIGHTEN_DEPTH.max(m.saturating_sub(20) / 10)
 }
