@@ -31,6 +31,7 @@ mod merge;
 mod pyramid;
 mod search;
 
+use rayon::prelude::*;
 use std::fmt;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
@@ -387,15 +388,23 @@ fn run(
     let mut scaled = Vec::new();
     let mut undecided = found.undecided;
     undecided.extend(unfinished.into_inner().unwrap_or_default());
-    for q in maximal(found.patterns) {
-        match finish_checked(&q) {
+    // Each witness is one cone program: they run in parallel (in order; one at a time with
+    // --certify, whose refutations are recorded as they are made).
+    let maximal = maximal(found.patterns);
+    let finished: Vec<_> = if settings.certify {
+        maximal.iter().map(|q| finish_checked(q)).collect()
+    } else {
+        maximal.par_iter().map(|q| finish_checked(q)).collect()
+    };
+    for (q, finished) in maximal.iter().zip(finished) {
+        match finished {
             Ok((p, s)) => {
                 patterns.push(p);
                 if settings.certify {
                     scaled.push(s);
                 }
             }
-            Err(reason) => undecided.push(failed(&q, reason)),
+            Err(reason) => undecided.push(failed(q, reason)),
         }
     }
     patterns.sort_by(|a, b| a.pattern.cmp(&b.pattern));
