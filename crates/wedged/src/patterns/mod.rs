@@ -390,13 +390,13 @@ fn run(
     undecided.extend(unfinished.into_inner().unwrap_or_default());
     // Each witness is one cone program: they run in parallel (in order; one at a time with
     // --certify, whose refutations are recorded as they are made).
-    let maximal = maximal(found.patterns);
+    let pieces = maximal(found.patterns);
     let finished: Vec<_> = if settings.certify {
-        maximal.iter().map(|q| finish_checked(q)).collect()
+        pieces.iter().map(|q| finish_checked(q)).collect()
     } else {
-        maximal.par_iter().map(|q| finish_checked(q)).collect()
+        pieces.par_iter().map(|q| finish_checked(q)).collect()
     };
-    for (q, finished) in maximal.iter().zip(finished) {
+    for (q, finished) in pieces.iter().zip(finished) {
         match finished {
             Ok((p, s)) => {
                 patterns.push(p);
