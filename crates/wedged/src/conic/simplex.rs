@@ -75,7 +75,8 @@ const REFRESH: u64 = 32;
 /// How many times a basis whose optimal point fails its check is refactored and the run
 /// resumed from it ([`solve`]).
 const REFINE: usize = 2;
-/// The size of the costs that a program without costs gets for its dual method ([`Run::solve`]).
+/// The size of the costs that a program without costs gets for its dual method
+/// ([`Run::solve`]).
 const PERTURB: f64 = 1e-7;
 
 /// A linear program in the bounded form of the module docs.

@@ -47,16 +47,16 @@ const INHERIT_ZERO: f64 = 1e-9;
 
 /// Search nodes at depths below [`tighten_depth`], `max(TIGHTEN_DEPTH, (m - 20) / 10)`, bound
 /// the drives of their free nodes ([`cuts::tighten`], two programs per free node) and hand the
-/// cuts down to their subtrees; the root settles its bounds ([`node_lp::tighten_node`]).
-/// Deeper tightening visits fewer nodes but solves more programs. (Measured on issue 20's
-/// plug, whole process, 2 threads: m = 40, depths 3, 4, 6, 8: 1.1, 1.3, 1.8, 2.1 s (7.6k,
-/// 8.4k, 3.1k, 3.8k nodes); m = 50, depths 4, 6: 4.6, 6.3 s. Since the simplex method leaves
-/// idle rows out (2026-11-26): m = 60, depths 4, 6, 8, 10: 13.6, 12.8, 15.1, 18.6 s (87k,
-/// 48k, 32k, 22k nodes); m = 80, depths 5, 7, 9, 11: 245, 114, 99, 123 s (844k, 270k, 130k,
-/// 114k nodes). With the root's bounds settled (2026-11-26, later): m = 60, depths 3, 4, 6, 8: 0.53M,
-/// 0.52M, 0.59M, 0.70M pivots (5.1, 5.1, 5.9, 6.9 s); m = 80, depths 4, 5, 6, 7, 9: 3.19M,
-/// 3.58M, 3.60M, 3.84M, 4.12M pivots (47, 48, 41, 53, 61 s): the best depth now grows by about
-/// 2 per 20 nodes.)
+/// cuts down to their subtrees; from [`SETTLE_FROM`] nodes on, the root settles its bounds
+/// ([`node_lp::tighten_node`]). Deeper tightening visits fewer nodes but solves more programs.
+/// (Measured on issue 20's plug, whole process, 2 threads: m = 40, depths 3, 4, 6, 8: 1.1,
+/// 1.3, 1.8, 2.1 s (7.6k, 8.4k, 3.1k, 3.8k nodes); m = 50, depths 4, 6: 4.6, 6.3 s. Since the
+/// simplex method leaves idle rows out (2026-11-26): m = 60, depths 4, 6, 8, 10: 13.6, 12.8,
+/// 15.1, 18.6 s (87k, 48k, 32k, 22k nodes); m = 80, depths 5, 7, 9, 11: 245, 114, 99, 123 s
+/// (844k, 270k, 130k, 114k nodes). With the root's bounds settled (2026-11-26, later):
+/// m = 60, depths 3, 4, 6, 8: 0.53M, 0.52M, 0.59M, 0.70M pivots (5.1, 5.1, 5.9, 6.9 s);
+/// m = 80, depths 4, 5, 6, 7, 9: 3.19M, 3.58M, 3.60M, 3.84M, 4.12M pivots (47, 48, 41, 53,
+/// 61 s): the best depth now grows by about 2 per 20 nodes.)
 const TIGHTEN_DEPTH: usize = 3;
 
 /// The root settles its bounds ([`node_lp::tighten_node`]) from this many nodes on.
