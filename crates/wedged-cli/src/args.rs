@@ -275,7 +275,7 @@ pub(crate) struct EnumerateArgs {
     /// gives a provably complete answer). A pattern method (bnb, pattern-faces, pattern-search; 2D or 3D): each
     /// pattern's witness recomputed exactly and checked, and every decision of the search
     /// backed by an infeasibility certificate checked exactly, which proves the patterns are
-    /// all the maximal ones (pyramid and pattern-search cannot be certified yet: refused). A failure is
+    /// all the maximal ones (pyramid cannot be certified: refused). A failure is
     /// reported and the exit code is 1.
     #[arg(long)]
     pub(crate) certify: bool,

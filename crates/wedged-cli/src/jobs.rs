@@ -208,16 +208,13 @@ pub fn plan_enumerate(
             MethodArg::Patterns(PatternMethod::Pyramid { .. }) => {
                 Some("its candidates come from a floating-point double description on the pyramid")
             }
-            MethodArg::Patterns(PatternMethod::Search) => Some(
-                "it prunes on the simplex method's certificates and on drive cuts, which are not \
-                 yet kept for an exact check",
-            ),
             _ => None,
         };
         if let Some(why) = why {
             return Err(Failure::Input(format!(
                 "--certify cannot prove the answer of --method {} complete ({why}); use \
-                 --method bnb or pattern-faces for certified patterns, or drop --certify",
+                 --method bnb, pattern-search (2D) or pattern-faces for certified patterns, or \
+                 drop --certify",
                 method.name()
             )));
         }

@@ -16,14 +16,11 @@ use wedged::{
     PatternSettings, Patterns, Problem, Settings,
 };
 
-/// Runs a method; `bnb` and `pattern-faces` with `--certify`, whose certificate must pass
-/// (the pyramid's completeness rests on floating-point double description and is not
-/// certified).
+/// Runs a method; `bnb`, `pattern-faces` and `pattern-search` with `--certify`, whose
+/// certificate must pass (the pyramid's completeness rests on floating-point double description
+/// and is not certified).
 fn run(problem: &Problem, method: PatternMethod) -> Patterns {
-    let certify = !matches!(
-        method,
-        PatternMethod::Pyramid { .. } | PatternMethod::Search
-    );
+    let certify = !matches!(method, PatternMethod::Pyramid { .. });
     let settings = PatternSettings {
         method,
         certify,

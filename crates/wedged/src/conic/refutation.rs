@@ -578,13 +578,18 @@ pub(crate) fn repair(
         .map(|&i| (0..d).map(|c| wf(d * i + c)).collect())
         .collect();
     let norm = |x: &[f64]| x.iter().map(|y| y * y).sum::<f64>().sqrt();
-    let big_w = w.iter().fold(0.0f64, |a, x| a.max(norm(x)));
     // A multiplier's size is that of its term in `w` (a floating body's `z` and `y` have
     // different units).
     let size: Vec<f64> = (0..width)
         .map(|j| zf[j].abs() * comp.near[j].iter().fold(0.0f64, |a, x| a.max(x.abs())))
         .collect();
     let big_z = size.iter().fold(0.0f64, |a, &x| a.max(x));
+    // The scale a hair of `w` is measured against: its largest entry on the nodes with a
+    // reaction, or, when even that is a hair of the terms `w` sums (a claim about a block of
+    // `K` that the nodes with a reaction do not reach, so that `w` vanishes on all of them:
+    // `tests/search.rs`'s block problems), the largest term.
+    let big_w = w.iter().fold(0.0f64, |a, x| a.max(norm(x)));
+    let big_w = if big_w <= 1e-6 * big_z { big_z } else { big_w };
     let row = |a: usize| -> (Vec<BigInt>, Vec<f64>) {
         (
             (0..width).map(|j| comp.cols[j][a].clone()).collect(),

@@ -1,5 +1,7 @@
 //! Exact certification of a sign-pattern enumeration (`enumerate --certify` with `bnb` or
-//! `pattern-faces`, 2D and 3D).
+//! `pattern-faces`, 2D and 3D, or `pattern-search`, 2D: its search then runs without drive
+//! cuts, and each prune of the simplex method is solved again by the cone solver and checked
+//! at once, [`Formulation::confirm`]; a prune that fails its check is explored further).
 //!
 //! The claim is that the reported patterns are exactly the maximal realised patterns at the
 //! problem's `mu`. It follows from three facts, each checked in exact rational arithmetic with
@@ -83,14 +85,6 @@ pub(crate) fn certify(
         failures.push(
             "the pyramid method's candidates come from floating-point double description, so \
              its completeness is not certified (use bnb or pattern-faces)"
-                .to_string(),
-        );
-    }
-    if let PatternMethod::Search = method {
-        failures.push(
-            "the pattern-search method prunes on the simplex method's certificates and on drive \
-             cuts from floating-point optima, which are not yet kept for an exact check, so its \
-             completeness is not certified (use bnb or pattern-faces)"
                 .to_string(),
         );
     }

@@ -337,7 +337,8 @@ fn run(
         reason,
     };
     // pattern-search hands on each maximal pattern as it is found: kept for the finishing
-    // step, or witnessed and streamed (certify is refused with pattern-search).
+    // step, or witnessed and streamed (not with --certify, where it returns every leaf's
+    // pattern and the finishing step below streams the maximal ones).
     let kept = std::sync::Mutex::new(Vec::new());
     let streamed = AtomicU64::new(0);
     let unfinished = std::sync::Mutex::new(Vec::new());
@@ -367,7 +368,9 @@ fn run(
             PatternMethod::Search => {
                 let mut found =
                     search::run(&form, &mut info, settings.shard, progress, &control, &emit);
-                found.patterns = std::mem::take(&mut *kept.lock().expect("no panics while held"));
+                found
+                    .patterns
+                    .append(&mut kept.lock().expect("no panics while held"));
                 found
             }
             PatternMethod::Pyramid { faces } => pyramid::run(

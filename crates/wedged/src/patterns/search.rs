@@ -87,7 +87,8 @@ fn leaf_piece(lp: &ContactLp, control: &Control, contact: &[bool]) -> Result<Pie
 }
 
 /// Runs the search; each maximal pattern goes to `emit` as soon as its leaf is decided (from a
-/// worker thread). The returned [`Found`] holds the undecided leaves only.
+/// worker thread). The returned [`Found`] holds the undecided leaves only, and in a certified
+/// run (refutations kept) every leaf's pattern, none emitted.
 pub(super) fn run(
     form: &Formulation,
     info: &mut PatternInfo,
@@ -99,6 +100,8 @@ pub(super) fn run(
     let lp = ContactLp::new(form);
     let undecided = Mutex::new(Vec::new());
     let realised = AtomicU64::new(0);
+    let certified = form.refutations.is_some();
+    let leaves = Mutex::new(Vec::new());
     let on_leaf = |contact: Vec<bool>| match leaf_piece(&lp, control, &contact) {
         Ok(Some((p, maximal))) => {
             realised.fetch_add(1, Ordering::Relaxed);
@@ -115,7 +118,29 @@ pub(super) fn run(
                 reason: format!("the support program of the contact set: {reason}"),
             }),
     };
-    let tree = search(&lp, control, shard, progress, Some(&on_leaf));
+    // A certified run takes each leaf's pattern from the cone program, whose zero entries are
+    // backed by refutations (`super::leaf_pattern`, as `bnb`'s leaves), and keeps every leaf's
+    // pattern: the maximal ones are then found by comparison, not by the maximality search.
+    let on_certified_leaf = |contact: Vec<bool>| match super::leaf_pattern(form, &contact) {
+        Ok(Some(p)) => {
+            realised.fetch_add(1, Ordering::Relaxed);
+            leaves.lock().expect("no panics while held").push(p);
+        }
+        Ok(None) => {}
+        Err(reason) => undecided
+            .lock()
+            .expect("no panics while held")
+            .push(Undecided {
+                contact,
+                reason: format!("the support program of the contact set: {reason}"),
+            }),
+    };
+    let on_leaf: &(dyn Fn(Vec<bool>) + Sync) = if certified {
+        &on_certified_leaf
+    } else {
+        &on_leaf
+    };
+    let tree = search(&lp, control, shard, progress, Some(on_leaf));
     info.nodes_visited = tree.nodes;
     info.nodes_inherited = tree.inherited;
     info.pruned_infeasible = tree.pruned;
@@ -129,7 +154,7 @@ pub(super) fn run(
     let mut undecided = undecided.into_inner().unwrap_or_default();
     undecided.sort_by(|a, b| a.contact.cmp(&b.contact));
     Found {
-        patterns: Vec::new(),
+        patterns: leaves.into_inner().unwrap_or_default(),
         undecided,
         shard: tree.shard,
     }

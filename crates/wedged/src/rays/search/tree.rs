@@ -19,8 +19,9 @@
 //! leaf's program is unchanged (a leaf has no free node, and its cuts are free rows) and a
 //! prune still means that no solution presses the contact nodes at once. On issue 20's plug at
 //! m = 40 this took the tree from 109k nodes to 7.6k (`BENCHMARKS.md`). The cuts rest on the
-//! solver's optima in floating point, like every prune of this search: `--certify` says that
-//! its completeness is not certified.
+//! solver's optima in floating point, so a certified run (`pattern-search --certify`, whose
+//! [`Formulation`](crate::conic::program::Formulation) keeps refutations) has none, and each of
+//! its prunes stands only when the cone solver's refutation of it passes an exact check.
 //!
 //! Each program is a warm start of the simplex method from the parent's basis: a child differs
 //! from its parent by the bounds of one node. A child whose parent's solution already meets its
@@ -194,8 +195,9 @@ impl<'a, 'f> Search<'a, 'f> {
             inherited: AtomicU64::new(0),
             pruned: AtomicU64::new(0),
             // A floating body's gaps also follow its rigid amplitudes, which the drive cuts do
-            // not bound: no cuts (`critical`'s bnb does the same).
-            tighten_depth: if lp.form().modes > 0 {
+            // not bound: no cuts (`critical`'s bnb does the same). Nor in a certified run: the
+            // cuts rest on floating-point optima that are not kept for an exact check.
+            tighten_depth: if lp.form().modes > 0 || lp.form().refutations.is_some() {
                 0
             } else {
                 tighten_depth(m)
@@ -344,6 +346,13 @@ impl shard::Tree for Search<'_, '_> {
                 );
                 let basis = basis.map(Arc::new).or(warm);
                 match decision {
+                    // In a certified run a prune stands only when its refutation, solved again
+                    // by the cone solver, passes its exact check at once (the simplex method's
+                    // own certificate, tried first, failed the filter of that check at most
+                    // nodes: its basic columns have reduced costs of exactly zero, which exact
+                    // arithmetic then decides, 7x slower on the m = 20 plug); otherwise the
+                    // subtree is explored further (nothing is lost, so nothing is undecided).
+                    Decision::No if form.confirm(&classes, norm).is_err() => (None, basis),
                     Decision::No => {
                         self.pruned.fetch_add(1, Ordering::Relaxed);
                         return None;
