@@ -9,7 +9,7 @@
 use std::sync::atomic::Ordering;
 
 use super::node_lp::{self, LpCounters};
-use super::program::{Class, Decision, Formulation, Goal, Norm};
+use super::program::{Class, Decision, Entry, Formulation, Goal, Norm, Support, POSITIVE};
 use super::simplex::{self, Answer, Lp};
 
 /// The bound on the total pressure of [`ContactLp::support`]: an entry that no solution makes
@@ -145,6 +145,151 @@ impl<'f> ContactLp<'f> {
 }
 
 impl ContactLp<'_> {
+    /// The max-min program of [`Formulation::support`]'s witness (2D, a clamped body): the
+    /// largest `t` such that one solution of the cone of `classes` with `sum r_n = 1` has
+    /// every entry of `entries` at least `t` (a pressure `r_n_i`, a scaled gap, a stick slack
+    /// `mu r_n_i - |r_t_i|`), with that solution `r` (`t <= 1`). `Ok(None)` when the cone is
+    /// `{0}`; `Err` when the simplex method cannot decide (the caller asks Clarabel).
+    ///
+    /// In the friction edges (`r_n = a + b`, `r_t = mu (a - b)`) a stick slack is
+    /// `2 mu min(a, b)`, so it is two rows `a, b >= t / (2 mu)`. The point is a vertex of the
+    /// optimal set, where Clarabel's lies inside it: the same value, every entry at least `t`.
+    pub(crate) fn max_min(
+        &self,
+        classes: &[Class],
+        entries: &[Entry],
+    ) -> Result<Option<(Vec<f64>, f64)>, String> {
+        let form = self.form;
+        assert_eq!(form.modes, 0, "a clamped body's program");
+        let (m, mu) = (form.m, form.mu);
+        let t = 2 * m;
+        let n = t + 1;
+        let rows_of = |e: &Entry| if matches!(e, Entry::Stick(_)) { 2 } else { 1 };
+        let rows = m + entries.iter().map(rows_of).sum::<usize>() + 1;
+        let mut lp = Lp::new(n, rows);
+        for (i, &class) in classes.iter().enumerate() {
+            node_lp::put_row(
+                form,
+                mu,
+                form.gap_row(i),
+                &mut lp.a_mut()[i * n..(i + 1) * n],
+            );
+            (lp.lo[n + i], lp.hi[n + i]) = match class {
+                Class::Contact | Class::Grazing => (0.0, 0.0),
+                Class::Separated | Class::Free => (0.0, f64::INFINITY),
+            };
+            let hi = if class.has_r() { 1.0 } else { 0.0 };
+            for col in [2 * i, 2 * i + 1] {
+                (lp.lo[col], lp.hi[col]) = (0.0, hi);
+            }
+        }
+        let mut row = m;
+        for &e in entries {
+            let a = lp.a_mut();
+            match e {
+                Entry::Press(i) => {
+                    a[row * n + 2 * i] = 1.0;
+                    a[row * n + 2 * i + 1] = 1.0;
+                    a[row * n + t] = -1.0;
+                }
+                Entry::Gap(i) => {
+                    for c in 0..t {
+                        a[row * n + c] = a[i * n + c];
+                    }
+                    a[row * n + t] = -1.0;
+                }
+                Entry::Stick(i) => {
+                    for (k, col) in [2 * i, 2 * i + 1].into_iter().enumerate() {
+                        a[(row + k) * n + col] = 1.0;
+                        a[(row + k) * n + t] = -0.5 / mu;
+                    }
+                }
+            }
+            for k in row..row + rows_of(&e) {
+                (lp.lo[n + k], lp.hi[n + k]) = (0.0, f64::INFINITY);
+            }
+            row += rows_of(&e);
+        }
+        let a = lp.a_mut();
+        for c in 0..t {
+            a[row * n + c] = 1.0;
+        }
+        (lp.lo[n + row], lp.hi[n + row]) = (1.0, 1.0);
+        (lp.lo[t], lp.hi[t], lp.cost[t]) = (0.0, 1.0, -1.0);
+        let (answer, _, stats) = simplex::solve(&lp, None);
+        self.counters
+            .pivots
+            .fetch_add(stats.pivots, Ordering::Relaxed);
+        self.counters.solves.fetch_add(1, Ordering::Relaxed);
+        match answer {
+            Answer::Optimal { x, .. } => {
+                let mut r = vec![0.0; 2 * m];
+                for i in 0..m {
+                    let (a, b) = (x[2 * i], x[2 * i + 1]);
+                    (r[2 * i], r[2 * i + 1]) = (a + b, mu * (a - b));
+                }
+                Ok(Some((r, x[t])))
+            }
+            Answer::Infeasible { .. } => Ok(None),
+            Answer::Failed(why) => {
+                self.counters.fallbacks.fetch_add(1, Ordering::Relaxed);
+                Err(why)
+            }
+        }
+    }
+
+    /// [`Formulation::support`] by the simplex method (2D, a clamped body): the entries of
+    /// `wanted` that some solution makes positive and a solution that makes them all at least
+    /// its `value`. First all of them pushed up together ([`ContactLp::max_min`]); when some
+    /// stay at zero, the cone's support ([`ContactLp::support`], one program) says which can
+    /// be positive (a stick slack when both friction edges can), and those are pushed up
+    /// together. `Err` when a program cannot be decided or the entries positive in the support
+    /// do not reach [`POSITIVE`] together (the caller then asks Clarabel).
+    pub(crate) fn witness(
+        &self,
+        classes: &[Class],
+        wanted: &[Entry],
+    ) -> Result<Option<Support>, String> {
+        let Some((r, value)) = self.max_min(classes, wanted)? else {
+            return Ok(None);
+        };
+        if value > POSITIVE {
+            let entries = wanted.to_vec();
+            return Ok(Some(Support { entries, r, value }));
+        }
+        let Some(support) = self.support(classes)? else {
+            return Ok(None);
+        };
+        let edge = |c: usize| support.positive.contains(&Entry2::Edge(c));
+        let found: Vec<Entry> = wanted
+            .iter()
+            .copied()
+            .filter(|&e| match e {
+                Entry::Press(i) => edge(2 * i) || edge(2 * i + 1),
+                Entry::Stick(i) => edge(2 * i) && edge(2 * i + 1),
+                Entry::Gap(i) => support.positive.contains(&Entry2::Gap(i)),
+            })
+            .collect();
+        if found.is_empty() {
+            return Ok(Some(Support {
+                entries: found,
+                r,
+                value: 0.0,
+            }));
+        }
+        match self.max_min(classes, &found)? {
+            Some((r, value)) if value > POSITIVE => Ok(Some(Support {
+                entries: found,
+                r,
+                value,
+            })),
+            Some((_, value)) => Err(format!(
+                "entries in the support reached only {value:e} together"
+            )),
+            None => Ok(None),
+        }
+    }
+
     /// [`ContactLp::support`] when the simplex method cannot settle its program (an
     /// ill-conditioned face): Clarabel pushes each entry up on its own, normalised by
     /// `sum r_n = 1`, and an entry is positive when its largest value exceeds
