@@ -102,6 +102,15 @@ pub(super) fn run(
     let realised = AtomicU64::new(0);
     let certified = form.refutations.is_some();
     let leaves = Mutex::new(Vec::new());
+    let undecided_leaf = |contact: Vec<bool>, reason: String| {
+        undecided
+            .lock()
+            .expect("no panics while held")
+            .push(Undecided {
+                contact,
+                reason: format!("the support program of the contact set: {reason}"),
+            })
+    };
     let on_leaf = |contact: Vec<bool>| match leaf_piece(&lp, control, &contact) {
         Ok(Some((p, maximal))) => {
             realised.fetch_add(1, Ordering::Relaxed);
@@ -110,13 +119,7 @@ pub(super) fn run(
             }
         }
         Ok(None) => {}
-        Err(reason) => undecided
-            .lock()
-            .expect("no panics while held")
-            .push(Undecided {
-                contact,
-                reason: format!("the support program of the contact set: {reason}"),
-            }),
+        Err(reason) => undecided_leaf(contact, reason),
     };
     // A certified run takes each leaf's pattern from the cone program, whose zero entries are
     // backed by refutations (`super::leaf_pattern`, as `bnb`'s leaves), and keeps every leaf's
@@ -127,13 +130,7 @@ pub(super) fn run(
             leaves.lock().expect("no panics while held").push(p);
         }
         Ok(None) => {}
-        Err(reason) => undecided
-            .lock()
-            .expect("no panics while held")
-            .push(Undecided {
-                contact,
-                reason: format!("the support program of the contact set: {reason}"),
-            }),
+        Err(reason) => undecided_leaf(contact, reason),
     };
     let on_leaf: &(dyn Fn(Vec<bool>) + Sync) = if certified {
         &on_certified_leaf
