@@ -82,6 +82,10 @@ def test_certify_and_methods():
     k = random_k(11, 3)
     assert wedged.enumerate(k, 1.5, certify=True).certified is True
     assert wedged.enumerate(k, 1.5, method="bnb", certify=True).certified is True
+    searched = wedged.enumerate(k, 1.5, method="pattern-search", certify=True)
+    assert searched.certified is True
+    bnb = wedged.enumerate(k, 1.5, method="bnb")
+    assert [p.pattern for p in searched.patterns] == [p.pattern for p in bnb.patterns]
     assert wedged.enumerate(k, 1.5).certified is None
 
 
@@ -223,7 +227,7 @@ def test_bad_options(tmp_path):
         (lambda: wedged.enumerate(k, 1.1, time_limit=-1), "time-limit"),
         (lambda: wedged.critical(k, tol=2.0), "tol"),
         (lambda: wedged.critical(k, method="enumerate", certify=True), "certify"),
-        (lambda: wedged.enumerate(k, 1.1, method="pattern-search", certify=True), "certify"),
+        (lambda: wedged.enumerate(k, 1.1, method="pyramid", certify=True), "certify"),
         (lambda: wedged.load(tmp_path / "missing.toml"), "missing.toml"),
         (lambda: wedged.load(FIXTURES / "hostile" / "mesh_missing_group.toml"), "group"),
         (lambda: wedged.load(FIXTURES / "two_nodes.toml").enumerate(mu=-2.0), "mu"),
