@@ -2,17 +2,12 @@
 //! bracket of `mu*`) and `wedged enumerate` with a sign-pattern method (the patterns proven to
 //! be all the maximal realised ones).
 
+mod common;
+
 use std::path::Path;
-use std::process::{Command, Output};
 
+use common::{assert_bad_input, pattern_list, wedged};
 use serde_json::Value;
-
-fn wedged(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wedged"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
 
 fn example(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -114,13 +109,7 @@ fn certify_with_enumerate_is_refused() {
         "enumerate",
         "--certify",
     ]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("--certify needs --method bnb or faces"),
-        "{err}"
-    );
-    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert_bad_input(&out, &["--certify needs --method bnb or faces"]);
 }
 
 #[test]
@@ -134,17 +123,13 @@ fn certify_with_an_uncertifiable_pattern_method_is_refused() {
         "pyramid",
         "--certify",
     ]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("--certify cannot prove the answer of --method pyramid"),
-        "{err}"
+    assert_bad_input(
+        &out,
+        &[
+            "--certify cannot prove the answer of --method pyramid",
+            "bnb, pattern-search (2D) or pattern-faces",
+        ],
     );
-    assert!(
-        err.contains("bnb, pattern-search (2D) or pattern-faces"),
-        "{err}"
-    );
-    assert_eq!(err.trim().lines().count(), 1, "{err}");
     assert!(out.stdout.is_empty(), "nothing is run");
 }
 
@@ -190,15 +175,7 @@ fn a_2d_plug_by_bnb_and_pattern_search_is_certified() {
     let (bnb, search) = (run("bnb"), run("pattern-search"));
     assert_eq!(search["certified_complete"], true);
     assert!(!search["patterns"].as_array().unwrap().is_empty());
-    let patterns = |v: &Value| -> Vec<Value> {
-        v["patterns"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|p| p["pattern"].clone())
-            .collect()
-    };
-    assert_eq!(patterns(&bnb), patterns(&search));
+    assert_eq!(pattern_list(&bnb), pattern_list(&search));
 }
 
 /// The pyramid's candidates come from floating-point double description: `--certify` is
@@ -212,10 +189,5 @@ fn the_pyramid_method_is_not_certified() {
         "pyramid",
         "--certify",
     ]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("floating-point double description on the pyramid"),
-        "{err}"
-    );
+    assert_bad_input(&out, &["floating-point double description on the pyramid"]);
 }

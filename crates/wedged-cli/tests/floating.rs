@@ -7,7 +7,7 @@ mod common;
 
 use std::fs;
 
-use common::{assert_bad_input, assert_code, text, wedged};
+use common::{assert_bad_input, assert_code, pattern_list, text, wedged};
 
 use serde_json::Value;
 use wedged::examples::floating_notch;
@@ -85,15 +85,7 @@ fn a_cork_is_wedged_above_the_tangent_of_its_notch() {
     let bnb = wedged(&["enumerate", path, "--method", "bnb", "--json", "-"]);
     assert_code(&bnb, 0);
     let bnb: Value = serde_json::from_slice(&bnb.stdout).unwrap();
-    let patterns = |v: &Value| -> Vec<Value> {
-        v["patterns"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|p| p["pattern"].clone())
-            .collect()
-    };
-    assert_eq!(patterns(&report), patterns(&bnb));
+    assert_eq!(pattern_list(&report), pattern_list(&bnb));
 
     for args in [
         vec!["enumerate", path, "--method", "pruned-dd"],
@@ -110,7 +102,7 @@ fn a_cork_is_wedged_above_the_tangent_of_its_notch() {
     let certified: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(certified["method"], "bnb");
     assert_eq!(certified["certified"], true);
-    assert_eq!(patterns(&certified), patterns(&bnb));
+    assert_eq!(pattern_list(&certified), pattern_list(&bnb));
     let out = wedged(&["critical", path, "--certify", "--json", "-"]);
     assert_code(&out, 0);
     let certified: Value = serde_json::from_slice(&out.stdout).unwrap();

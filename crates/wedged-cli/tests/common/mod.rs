@@ -38,3 +38,13 @@ pub fn assert_bad_input(out: &Output, needles: &[&str]) {
         assert!(err.contains(needle), "{needle:?} not in {err}");
     }
 }
+
+/// The `"pattern"` of every piece of a pattern run's JSON, in order.
+pub fn pattern_list(report: &serde_json::Value) -> Vec<serde_json::Value> {
+    report["patterns"]
+        .as_array()
+        .expect("a pattern run's JSON")
+        .iter()
+        .map(|p| p["pattern"].clone())
+        .collect()
+}
