@@ -445,6 +445,12 @@ pub(crate) fn relaxation<'a>(
     shape: Shape<'a>,
     start: Option<Warm>,
 ) -> impl Fn(&[f64]) -> Decision + Sync + 'a {
+    // A tightening program's optimum lies far from the start's point: leaving out the rows
+    // loose there costs more pivots than it saves (see the simplex method's `active`).
+    let start = start.map(|w| Warm {
+        basis: w.basis.all_rows(),
+        ..w
+    });
     move |objective: &[f64]| {
         let start = start.as_ref();
         decide(

@@ -22,7 +22,8 @@
 //! dual simplex method restores primal feasibility (Harris's two-pass ratio test, the largest
 //! infeasibility leaves), the shifts are dropped, and the primal simplex method (Devex
 //! pricing, Harris's ratio test, bound flips) finishes. Idle rows (free, no cost) whose
-//! activity is basic are left out of the basis and its inverse ([`active`]). The basic values
+//! activity is basic are left out of the basis and its inverse, and so are the rows that a
+//! warm start's point leaves loose, until the part's point breaks them ([`active`]). The basic values
 //! and the reduced costs are updated at each pivot and recomputed from the inverse every
 //! [`REFRESH`] pivots and before every verdict; a pivot element that the pivot row and the
 //! pivot column disagree on refactors the inverse. Dot products run on eight partial sums,
@@ -72,8 +73,7 @@ const TINY: f64 = 1e-12;
 /// Values and reduced costs, updated at each pivot, are recomputed from the inverse after
 /// this many pivots (and before every verdict).
 const REFRESH: u64 = 32;
-/// How many times a basis whose optimal point fails its check is refactored and the run
-/// resumed from it ([`solve`]).
+/// How often a basis whose optimal point fails its check is refactored ([`attempt`]).
 const REFINE: usize = 2;
 /// The size of the costs that a program without costs gets for its dual method
 /// ([`Run::solve`]).
@@ -202,6 +202,9 @@ pub(crate) struct Basis {
     inv: Option<Vec<f64>>,
     /// The active rows.
     rows: Vec<usize>,
+    /// The row activities at the optimal point the basis was left at (empty otherwise): a
+    /// start leaves out the rows loose there ([`active`]).
+    activity: Vec<f64>,
 }
 
 impl Clone for Basis {
@@ -211,6 +214,7 @@ impl Clone for Basis {
             at: self.at.clone(),
             inv: self.inv.as_deref().map(pool::copy_of),
             rows: self.rows.clone(),
+            activity: self.activity.clone(),
         }
     }
 }
@@ -232,6 +236,12 @@ impl Basis {
         }
     }
 
+    /// The same start with every row that is not idle active (none left out as loose).
+    pub(crate) fn all_rows(mut self) -> Basis {
+        self.activity.clear();
+        self
+    }
+
     /// The same basis without its inverse (refactored on the next solve): small to keep.
     pub(crate) fn without_inverse(&self) -> Basis {
         Basis {
@@ -239,6 +249,7 @@ impl Basis {
             at: self.at.clone(),
             inv: None,
             rows: self.rows.clone(),
+            activity: self.activity.clone(),
         }
     }
 
@@ -279,52 +290,65 @@ pub(crate) fn solve(lp: &Lp, start: Option<&Basis>) -> (Answer, Basis, Stats) {
         .chain(std::iter::once_with(|| active::slack(lp)));
     let mut last = String::new();
     for basis in tries {
-        // The program on the basis's active rows, and the basis in its numbering.
-        let rows = basis.rows.clone();
-        let part = active::part(lp, &rows);
-        let mut basis = active::into_part(lp, basis);
-        if basis.inv.is_none() {
-            match invert(&part, &basis.head) {
-                Some(inv) => basis.inv = Some(inv),
-                None => {
-                    last = "the warm-start basis is singular".into();
-                    continue;
-                }
-            }
-        }
-        let mut run = Run::new(&part, basis);
-        for refined in 0..=REFINE {
-            // Checked on the whole program.
-            let mut optimal = false;
-            let answer = run.solve(&mut stats).and_then(|outcome| match outcome {
-                Outcome::Optimal => {
-                    optimal = true;
-                    check_point(lp, &run.x[..lp.n])
-                }
-                Outcome::Infeasible(p) => {
-                    let r = part.rows;
-                    let y = active::spread(lp.rows, &rows, &run.inv()[p * r..(p + 1) * r]);
-                    check_certificate(lp, &y)
-                }
-            });
-            match answer {
-                Ok(answer) => return (answer, active::from_part(lp, &rows, run.basis), stats),
-                Err(why) => last = why,
-            }
-            // An optimal point that fails its check: the inverse, updated at each pivot, has
-            // drifted (an ill-conditioned basis). Refactor it and resume from that basis.
-            if !optimal || refined == REFINE {
-                break;
-            }
-            let mut basis = run.basis;
-            match invert(&part, &basis.head) {
-                Some(inv) => basis.inv = Some(inv),
-                None => break,
-            }
-            run = Run::new(&part, basis);
+        match attempt(lp, basis, &mut stats) {
+            Ok((answer, basis)) => return (answer, basis, stats),
+            Err(why) => last = why,
         }
     }
     (Answer::Failed(last), active::slack(lp), stats)
+}
+
+/// One try from `basis` (whole numbering) on its active rows, the rows left out that the
+/// point breaks joining ([`active`]), a drifted inverse refactored (see the module docs).
+fn attempt(lp: &Lp, mut basis: Basis, stats: &mut Stats) -> Result<(Answer, Basis), String> {
+    let mut refined = 0;
+    loop {
+        let rows = basis.rows.clone();
+        let part = active::part(lp, &rows);
+        let mut inner = active::into_part(lp, basis);
+        if inner.inv.is_none() {
+            let inv = invert(&part, &inner.head);
+            inner.inv = Some(inv.ok_or_else(|| "the warm-start basis is singular".to_string())?);
+        }
+        let mut run = Run::new(&part, inner);
+        let outcome = run.solve(stats)?;
+        let x = run.x[..lp.n].to_vec();
+        let y = match outcome {
+            Outcome::Infeasible(p) => {
+                let r = part.rows;
+                Some(active::spread(
+                    lp.rows,
+                    &rows,
+                    &run.inv()[p * r..(p + 1) * r],
+                ))
+            }
+            Outcome::Optimal => None,
+        };
+        let mut whole = active::from_part(lp, &rows, run.basis);
+        whole.activity.clear();
+        if let Some(y) = y {
+            return Ok((check_certificate(lp, &y)?, whole));
+        }
+        let broken = active::violated(lp, &rows, &x);
+        if !broken.is_empty() {
+            basis = active::add(lp, &whole, &broken);
+            continue;
+        }
+        match check_point(lp, &x) {
+            Ok(answer) => {
+                if let Answer::Optimal { x: all, .. } = &answer {
+                    whole.activity = all[lp.n..].to_vec();
+                }
+                return Ok((answer, whole));
+            }
+            Err(_) if refined < REFINE => {
+                refined += 1;
+                whole.forget();
+                basis = whole;
+            }
+            Err(why) => return Err(why),
+        }
+    }
 }
 
 /// What a run ends in, before the check.
