@@ -46,7 +46,7 @@ use crate::shard::{self, Explored, Shard, ShardReport, Walk};
 /// as zero when deciding whether a child inherits it.
 const INHERIT_ZERO: f64 = 1e-9;
 
-/// Search nodes at depths below [`tighten_depth`], `max(TIGHTEN_DEPTH, (m - 20) / 10)`, bound
+/// Search nodes at depths below [`tighten_depth`], `max(TIGHTEN_DEPTH, (m - 20) / 20)`, bound
 /// the drives of their free nodes ([`cuts::tighten`], two programs per free node) and hand the
 /// cuts down to their subtrees; from [`SETTLE_FROM`] nodes on, the root settles its bounds
 /// ([`node_lp::tighten_node`]). Deeper tightening visits fewer nodes but solves more programs.
@@ -57,7 +57,10 @@ const INHERIT_ZERO: f64 = 1e-9;
 /// (844k, 270k, 130k, 114k nodes). With the root's bounds settled (2026-11-26, later):
 /// m = 60, depths 3, 4, 6, 8: 0.53M, 0.52M, 0.59M, 0.70M pivots (5.1, 5.1, 5.9, 6.9 s);
 /// m = 80, depths 4, 5, 6, 7, 9: 3.19M, 3.58M, 3.60M, 3.84M, 4.12M pivots (47, 48, 41, 53,
-/// 61 s): the best depth now grows by about 2 per 20 nodes.)
+/// 61 s): the best depth grew by about 2 per 20 nodes. Since a node's program leaves its
+/// loose rows out (2026-11-27), nodes are cheaper against the tightening programs (which keep
+/// every row): m = 40, depths 2, 3, 4: 0.56, 0.59, 0.66 s; m = 60, depths 2, 3, 4, 6, 8: 3.9,
+/// 3.2, 3.9, 5.2, 5.5 s; m = 80, depths 3, 4, 5, 6: 24.9, 24.8, 29.5, 27.6 s, one run each.)
 const TIGHTEN_DEPTH: usize = 3;
 
 /// The root settles its bounds ([`node_lp::tighten_node`]) from this many nodes on.
@@ -432,5 +435,5 @@ impl shard::Tree for Search<'_, '_> {
 /// The depth down to which search nodes tighten the drive bounds of a problem of `m` nodes
 /// (nodes at depths below it tighten; the rest inherit the bounds).
 pub(crate) fn tighten_depth(m: usize) -> usize {
-    TIGHTEN_DEPTH.max(m.saturating_sub(20) / 10)
+    TIGHTEN_DEPTH.max(m.saturating_sub(20) / 20)
 }
