@@ -55,9 +55,12 @@ use crate::shard::{self, Explored, Shard, Walk};
 /// grows with the problem. (Measured on the 2D plug with the simplex method, problem `mu` 2:
 /// m = 40, depths 4, 5: 0.78, 1.35 s; m = 60, depths 3, 4, 5, 6: 13.0, 8.9, 8.7, 10.5 s
 /// (74k, 31k, 16k, 7.8k nodes); m = 80, depths 4, 5, 6, 8: 85, 46, 44, 137 s (278k, 107k,
-/// 52k, 24k nodes). With Clarabel, at m = 40, depths 2, 4, 6, 8 took 52, 30, 33, 35 s.)
+/// 52k, 24k nodes). With Clarabel, at m = 40, depths 2, 4, 6, 8 took 52, 30, 33, 35 s. Since
+/// a node's program leaves its loose rows out (2026-11-27, `conic/simplex/active.rs`), nodes
+/// are cheaper against the tightening programs: m = 60, depths 2, 4, 6: 3.9, 4.2, 6.2 s;
+/// m = 80, depths 3, 4, 6: 28.0, 24.7, 31.4 s, one run each.)
 const TIGHTEN_DEPTH: usize = 4;
-const TIGHTEN_PER_DEPTH: usize = 13;
+const TIGHTEN_PER_DEPTH: usize = 20;
 
 /// Bounds computed at a level more than this factor above the current one are stale: the
 /// incumbent has dropped since (the first nodes are visited before there is one), and nodes
