@@ -23,12 +23,12 @@
 //! infeasibility leaves), the shifts are dropped, and the primal simplex method (Devex
 //! pricing, Harris's ratio test, bound flips) finishes. Idle rows (free, no cost) whose
 //! activity is basic are left out of the basis and its inverse, and so are the rows that a
-//! warm start's point leaves loose, until the part's point breaks them ([`active`]). The basic values
-//! and the reduced costs are updated at each pivot and recomputed from the inverse every
-//! [`REFRESH`] pivots and before every verdict; a pivot element that the pivot row and the
-//! pivot column disagree on refactors the inverse. Dot products run on eight partial sums,
-//! which the compiler vectorises (on the 2D plug with m = 60 that alone halved the search's
-//! time).
+//! warm start's point leaves loose, until the part's point breaks them ([`active`]). The
+//! basic values and the reduced costs are updated at each pivot and recomputed from the
+//! inverse every [`REFRESH`] pivots and before every verdict; a pivot element that the pivot
+//! row and the pivot column disagree on refactors the inverse. Dot products run on eight
+//! partial sums, which the compiler vectorises (on the 2D plug with m = 60 that alone halved
+//! the search's time).
 //!
 //! **Checked answers.** As in [`crate::socp`], nothing is returned unchecked:
 //! - `Optimal`: the row activities are recomputed as `A x` and every bound must hold within

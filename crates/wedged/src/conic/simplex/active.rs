@@ -9,8 +9,8 @@
 //!
 //! **Loose rows are left out too, and brought back when broken.** A warm start carries the row
 //! activities of the optimal point it was left at ([`Basis::activity`]); a row whose activity
-//! is basic there, has no cost, and is inside its bounds by more than [`LOOSE`] of them (an open gap, a slack
-//! cut) is left out of the child's solve, which then works on a relaxation of the program:
+//! is basic there, has no cost, and is inside its bounds by more than [`LOOSE`] of them (an
+//! open gap, a slack cut) is left out of the child's solve, which then works on a relaxation:
 //! an infeasibility certificate of the part is one of the whole (zero multipliers on the rows
 //! left out), and an optimal point of the part that meets every row left out ([`violated`]) is
 //! optimal for the whole. When it breaks some, they join with their activities basic ([`add`])
