@@ -31,6 +31,19 @@ fn certified_json(args: &[&str]) -> Value {
     report
 }
 
+/// `wedged enumerate FILE --method METHOD --certify --json -`, certified.
+fn certified_enumerate(file: &str, method: &str) -> Value {
+    certified_json(&[
+        "enumerate",
+        file,
+        "--method",
+        method,
+        "--certify",
+        "--json",
+        "-",
+    ])
+}
+
 /// A certified `critical` run, its exact upper end checked against the reported one.
 fn certified_report(args: &[&str]) -> Value {
     let report = certified_json(args);
@@ -137,15 +150,7 @@ fn certify_with_an_uncertifiable_pattern_method_is_refused() {
 fn the_3d_plug_is_certified_by_both_exact_methods() {
     let file = example("plug3d.toml");
     for method in ["bnb", "pattern-faces"] {
-        let report = certified_json(&[
-            "enumerate",
-            &file,
-            "--method",
-            method,
-            "--certify",
-            "--json",
-            "-",
-        ]);
+        let report = certified_enumerate(&file, method);
         assert_eq!(report["certified_complete"], true, "{method}");
         assert!(!report["patterns"].as_array().unwrap().is_empty());
     }
@@ -161,18 +166,10 @@ fn the_3d_plug_is_certified_by_both_exact_methods() {
 #[test]
 fn a_2d_plug_by_bnb_and_pattern_search_is_certified() {
     let file = example("plug2d_gmsh.toml");
-    let run = |method| {
-        certified_json(&[
-            "enumerate",
-            &file,
-            "--method",
-            method,
-            "--certify",
-            "--json",
-            "-",
-        ])
-    };
-    let (bnb, search) = (run("bnb"), run("pattern-search"));
+    let (bnb, search) = (
+        certified_enumerate(&file, "bnb"),
+        certified_enumerate(&file, "pattern-search"),
+    );
     assert_eq!(search["certified_complete"], true);
     assert!(!search["patterns"].as_array().unwrap().is_empty());
     assert_eq!(pattern_list(&bnb), pattern_list(&search));
