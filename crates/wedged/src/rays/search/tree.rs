@@ -63,6 +63,14 @@ const INHERIT_ZERO: f64 = 1e-9;
 /// 3.2, 3.9, 5.2, 5.5 s; m = 80, depths 3, 4, 5, 6: 24.9, 24.8, 29.5, 27.6 s, one run each.)
 const TIGHTEN_DEPTH: usize = 3;
 
+/// Problems with fewer nodes do not tighten at all: their trees are small and a node's
+/// program cheap against a free node's two tightening programs. (Measured 2026-11-27, whole
+/// process, `farm-bench -n 20 --vs`, depth 0 against 3: random m = 9 problems at `mu = 1.5`,
+/// seeds 0 to 4, `pattern-search`, medians of the paired ratios 0.90, 0.82, 0.83, 0.78, 0.79
+/// (seed 0: 1,945 against 2,673 pivots); the plug at m = 16 0.79. At m = 20 and 26 the plug
+/// took 1.1 to 1.25 times as long without tightening, so it tightens from 20 nodes on.)
+const TIGHTEN_FROM: usize = 20;
+
 /// The root settles its bounds ([`node_lp::tighten_node`]) from this many nodes on.
 const SETTLE_FROM: usize = 40;
 
@@ -435,5 +443,8 @@ impl shard::Tree for Search<'_, '_> {
 /// The depth down to which search nodes tighten the drive bounds of a problem of `m` nodes
 /// (nodes at depths below it tighten; the rest inherit the bounds).
 pub(crate) fn tighten_depth(m: usize) -> usize {
+    if m < TIGHTEN_FROM {
+        return 0;
+    }
     TIGHTEN_DEPTH.max(m.saturating_sub(20) / 20)
 }
