@@ -441,7 +441,8 @@ impl shard::Tree for Search<'_, '_> {
 }
 
 /// The depth down to which search nodes tighten the drive bounds of a problem of `m` nodes
-/// (nodes at depths below it tighten; the rest inherit the bounds).
+/// (nodes at depths below it tighten; the rest inherit the bounds; none below
+/// [`TIGHTEN_FROM`] nodes).
 pub(crate) fn tighten_depth(m: usize) -> usize {
     if m < TIGHTEN_FROM {
         return 0;
