@@ -28,7 +28,9 @@
 //! descent stalls, `polish.rs` locates the threshold more closely from the tight constraints of
 //! the least-norm certificate (the friction coefficient where they become singular), makes the
 //! point there exact, and builds the certificate just below it: this reaches `tol` (1e-9 by
-//! default) where the tight set can be read. Otherwise the bracket is narrowed to `tol` or
+//! default) where the tight set can be read. Where it cannot (most 3D leaves, whose slip
+//! directions turn with `mu`), `newton.rs` solves the leaf's optimality conditions by Newton's
+//! method, and their multipliers are the certificate. Otherwise the bracket is narrowed to `tol` or
 //! until the solver's feasibility resolution (about 1e-7 relative) stops it. The bracket
 //! reported is the one certified.
 //!
@@ -47,6 +49,7 @@ mod bnb;
 pub mod certify;
 mod enumerate;
 mod faces;
+mod newton;
 mod polish;
 mod shards;
 mod witness;
@@ -715,6 +718,21 @@ impl Ctx<'_, '_> {
                     self.form.keep(f);
                     lo = certified(at);
                     continue;
+                }
+                // No clean pole (most 3D leaves): Newton's method on the leaf's optimality
+                // conditions gives the threshold and its multipliers the certificate.
+                if let Some(p) = newton::polish(self.form, contact, hi, &r) {
+                    if let Some((t, q)) = self.exact_point(contact, &p.r, p.theta) {
+                        if t < hi {
+                            (hi, r) = (t, q);
+                        }
+                    }
+                    let at = hi * (1.0 - 0.5 * self.tol);
+                    if let Some(f) = p.refute(self.form, contact, at) {
+                        self.form.keep(f);
+                        lo = certified(at);
+                        continue;
+                    }
                 }
             }
             let probe = if lo > 0.0 {

@@ -311,7 +311,12 @@ fn w_of(form: &Formulation, y: &[f64], i: usize) -> (Vec<f64>, Vec<f64>) {
 
 /// The refutation of `y` (scaled multipliers) at `mu`, a negative multiplier off the contact
 /// set taken as zero, if then every `c_i` is negative with a margin far above round-off.
-fn check(form: &Formulation, contact: &[bool], y: &[f64], mu: f64) -> Option<Refutation> {
+pub(super) fn check(
+    form: &Formulation,
+    contact: &[bool],
+    y: &[f64],
+    mu: f64,
+) -> Option<Refutation> {
     let m = form.m;
     let y: Vec<f64> = (0..m)
         .map(|k| if contact[k] { y[k] } else { y[k].max(0.0) })
