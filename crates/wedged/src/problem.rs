@@ -404,27 +404,51 @@ impl Problem {
         digest_of(words)
     }
 
-    /// A mirror symmetry of a 2D problem (a body symmetric about a plane, in a symmetric
-    /// obstacle): an involution `s` of the nodes, not the identity, under which `K` is
-    /// invariant with every image's tangent reversed (as a reflection reverses it):
-    /// `K[s(i), s(j)] = D K[i, j] D` for every pair of nodes, `D = diag(1, -1)`, within
-    /// [`MIRROR_TOL`] of the largest entry of `K` (a mirror mesh is assembled in another order,
-    /// so its `K` is symmetric to round-off only). A solution's mirror image (node `s(i)`
-    /// taking node `i`'s state, tangents reversed) is then a solution with the same friction
-    /// ratios. Images are found by the nodes' own blocks (`K_nn`, `K_tt` equal, `K_nt`
-    /// opposite); `None` when some node has more than one candidate or the whole of `K` does
-    /// not match.
+    /// A mirror symmetry of the problem (a body symmetric about a plane, in a symmetric
+    /// obstacle): the first of [`Problem::symmetries`], `None` when there is none.
     pub fn mirror(&self) -> Option<Vec<usize>> {
-        if self.dim != 2 {
-            return None;
-        }
-        let (k, m) = (&self.k, self.nodes());
+        self.symmetries().into_iter().next()
+    }
+
+    /// The symmetries of the problem that map nodes to nodes with their local frames turned
+    /// by a sign: involutions `s` of the nodes, not the identity, under which `K` is invariant,
+    /// `K[s(i), s(j)] = D K[i, j] D` for every pair of nodes, within [`MIRROR_TOL`] of the
+    /// largest entry of `K` (a mirror mesh is assembled in another order, so its `K` is
+    /// symmetric to round-off only). `D` keeps the normal and turns tangents: in 2D `D =
+    /// diag(1, -1)` (a reflection reverses the tangent); in 3D each of `diag(1, 1, -1)`,
+    /// `diag(1, -1, 1)` (reflections, which reverse one tangent of a frame whose other
+    /// tangent lies in the mirror plane, as the V-groove plug's frames do for both of its
+    /// mirrors) and `diag(1, -1, -1)` (a half turn about an axis in the normals' plane, or the
+    /// two mirrors together) is tried, and each that holds gives one involution. A solution's
+    /// image (node `s(i)` taking node `i`'s state, its frame turned by `D`) is then a solution
+    /// with the same friction ratios. Images are found by the nodes' own blocks (`D K_ii D`);
+    /// a `D` under which some node has more than one candidate, or the whole of `K` does not
+    /// match, gives none.
+    pub fn symmetries(&self) -> Vec<Vec<usize>> {
+        let signs: &[&[f64]] = match self.dim {
+            2 => &[&[1.0, -1.0]],
+            _ => &[&[1.0, 1.0, -1.0], &[1.0, -1.0, 1.0], &[1.0, -1.0, -1.0]],
+        };
+        signs
+            .iter()
+            .filter_map(|sign| self.symmetry(sign))
+            .collect()
+    }
+
+    /// The involution under which `K` is invariant with the frames turned by `diag(sign)`.
+    fn symmetry(&self, sign: &[f64]) -> Option<Vec<usize>> {
+        let (k, m, d) = (&self.k, self.nodes(), self.dim);
         let tol = MIRROR_TOL * k.amax();
         let same = |a: f64, b: f64| (a - b).abs() <= tol;
         let image_of = |i: usize, j: usize| {
-            same(k[(2 * j, 2 * j)], k[(2 * i, 2 * i)])
-                && same(k[(2 * j + 1, 2 * j + 1)], k[(2 * i + 1, 2 * i + 1)])
-                && same(k[(2 * j, 2 * j + 1)], -k[(2 * i, 2 * i + 1)])
+            (0..d).all(|a| {
+                (a..d).all(|b| {
+                    same(
+                        k[(d * j + a, d * j + b)],
+                        sign[a] * sign[b] * k[(d * i + a, d * i + b)],
+                    )
+                })
+            })
         };
         let mut s = Vec::with_capacity(m);
         for i in 0..m {
@@ -439,11 +463,10 @@ impl Problem {
         if !involution || (0..m).all(|i| s[i] == i) {
             return None;
         }
-        let sign = |a: usize| if a % 2 == 1 { -1.0 } else { 1.0 };
-        let invariant = (0..2 * m).all(|a| {
-            (0..2 * m).all(|b| {
-                let (sa, sb) = (2 * s[a / 2] + a % 2, 2 * s[b / 2] + b % 2);
-                same(k[(sa, sb)], sign(a) * sign(b) * k[(a, b)])
+        let invariant = (0..d * m).all(|a| {
+            (0..d * m).all(|b| {
+                let (sa, sb) = (d * s[a / d] + a % d, d * s[b / d] + b % d);
+                same(k[(sa, sb)], sign[a % d] * sign[b % d] * k[(a, b)])
             })
         });
         invariant.then_some(s)

@@ -1,8 +1,9 @@
-//! Mirror symmetry (issue 20: exploit structure where it is present): `Problem::mirror` finds
-//! the involution of a body symmetric about a plane (node images with tangents reversed) and
-//! only then, and `critical`'s `bnb` separates a branch node's image with it on the nodes the
-//! mirror keeps (orbital branching), which must not change `mu*`: on seeded mirror-symmetric
-//! problems it equals the brute force over contact sets, certified (which uses no mirror).
+//! Mirror symmetry (issue 20: exploit structure where it is present): `Problem::symmetries`
+//! finds the involutions of a body symmetric about a plane (node images with tangents
+//! reversed; in 3D also a half turn, and both mirrors of the V-groove plug) and only then, and
+//! `critical`'s `bnb` separates a branch node's images with them on the nodes a symmetry keeps
+//! (orbital branching), which must not change `mu*`: on seeded symmetric problems it equals
+//! the brute force over contact sets, certified (which uses no symmetry).
 
 use nalgebra::DMatrix;
 use wedged::examples::{plug2d, plug2d_tri, random_spd_problem};
@@ -11,15 +12,36 @@ use wedged::{critical, CriticalMethod, CriticalSettings, CriticalStatus, Problem
 /// `K + P K P^T` for the signed permutation of the node reversal `i -> m - 1 - i` with every
 /// image's tangent reversed: invariant under it.
 fn mirrored(k: &DMatrix<f64>) -> (DMatrix<f64>, Vec<usize>) {
+    symmetrised(k, 2, &[1.0, -1.0], None)
+}
+
+/// `K + P K P^T` for the signed permutation of the node reversal `i -> m - 1 - i` with every
+/// image's frame turned by `diag(sign)`; with `second`, then the same for the pairing `i -> i
+/// xor 1` (m even; it commutes with the reversal), so that the result keeps both.
+fn symmetrised(
+    k: &DMatrix<f64>,
+    d: usize,
+    sign: &[f64],
+    second: Option<&[f64]>,
+) -> (DMatrix<f64>, Vec<usize>) {
     let n = k.nrows();
-    let m = n / 2;
+    let m = n / d;
+    let apply = |k: &DMatrix<f64>, image: &[usize], sign: &[f64]| {
+        let mut p = DMatrix::<f64>::zeros(n, n);
+        for (i, &j) in image.iter().enumerate() {
+            for c in 0..d {
+                p[(d * j + c, d * i + c)] = sign[c];
+            }
+        }
+        k + &p * k * p.transpose()
+    };
     let image: Vec<usize> = (0..m).map(|i| m - 1 - i).collect();
-    let mut p = DMatrix::<f64>::zeros(n, n);
-    for (i, &j) in image.iter().enumerate() {
-        p[(2 * j, 2 * i)] = 1.0;
-        p[(2 * j + 1, 2 * i + 1)] = -1.0;
+    let mut k = apply(k, &image, sign);
+    if let Some(other) = second {
+        let pairs: Vec<usize> = (0..m).map(|i| i ^ 1).collect();
+        k = apply(&k, &pairs, other);
     }
-    (k + &p * k * p.transpose(), image)
+    (k, image)
 }
 
 #[test]
@@ -39,20 +61,59 @@ fn a_mirror_is_found_exactly_when_present() {
     assert!((0..quad.nodes()).all(|i| s[i] != i && s[s[i]] == i));
     let tri = plug2d_tri(8).unwrap().problem(2.0).unwrap();
     assert_eq!(tri.mirror(), None);
-    // 3D: not looked for.
-    let p3 = wedged::examples::random_spd_problem_dim(3, 4, 1.0, 1);
-    assert_eq!(p3.mirror(), None);
+    // 3D: a frame turned by a reflection (one tangent reversed) or a half turn (both).
+    for seed in 0..12 {
+        let m = 2 * (1 + (seed % 3) as usize);
+        let p = wedged::examples::random_spd_problem_dim(3, m, 1.5, seed);
+        assert!(p.symmetries().is_empty(), "3D seed {seed}");
+        let sign: &[f64] =
+            [&[1.0, 1.0, -1.0][..], &[1.0, -1.0, 1.0], &[1.0, -1.0, -1.0]][(seed % 3) as usize];
+        let (k, image) = symmetrised(p.stiffness(), 3, sign, None);
+        let q = Problem::new(3, k, 1.5).unwrap();
+        assert_eq!(q.symmetries(), vec![image], "3D seed {seed}, {sign:?}");
+        // Two commuting reflections: those two and their product, a half turn (with m = 2 the
+        // two pair the same nodes, and their product, the identity on nodes, is no symmetry).
+        let (k, _) = symmetrised(p.stiffness(), 3, &[1.0, 1.0, -1.0], Some(&[1.0, -1.0, 1.0]));
+        let q = Problem::new(3, k, 1.5).unwrap();
+        let expected = if m == 2 { 2 } else { 3 };
+        assert_eq!(
+            q.symmetries().len(),
+            expected,
+            "3D seed {seed}, two reflections"
+        );
+    }
+    // The V-groove plug: mirror-symmetric across the groove and along it.
+    let vg = wedged::examples::plug3d(2, 2)
+        .unwrap()
+        .problem(2.0)
+        .unwrap();
+    let found = vg.symmetries();
+    assert_eq!(found.len(), 3, "the V-groove plug's symmetries: {found:?}");
+    for s in &found {
+        assert!((0..vg.nodes()).all(|i| s[s[i]] == i));
+    }
 }
 
 #[test]
 fn orbital_branching_keeps_mu_star() {
     let (mut mirrored_branchings, mut wedged) = (0, 0);
-    for seed in 0..30u64 {
-        let m = 2 + (seed % 6) as usize;
-        let base = random_spd_problem(m, 3.0, 500 + seed);
-        let (k, _) = mirrored(base.stiffness());
-        let p = Problem::new(2, k, 3.0).unwrap();
-        let what = format!("seed {seed}, m = {m}");
+    let (mut mirrored_3d, mut wedged_3d) = (0, 0);
+    for seed in 0..42u64 {
+        let p = if seed < 30 {
+            let m = 2 + (seed % 6) as usize;
+            let base = random_spd_problem(m, 3.0, 500 + seed);
+            let (k, _) = mirrored(base.stiffness());
+            Problem::new(2, k, 3.0).unwrap()
+        } else {
+            // 3D, one or two symmetries (m = 2, 4, 6).
+            let m = 2 * (1 + (seed % 3) as usize);
+            let base = wedged::examples::random_spd_problem_dim(3, m, 3.0, 500 + seed);
+            let second: Option<&[f64]> = (seed % 2 == 0).then_some(&[1.0, -1.0, 1.0]);
+            let (k, _) = symmetrised(base.stiffness(), 3, &[1.0, 1.0, -1.0], second);
+            Problem::new(3, k, 3.0).unwrap()
+        };
+        let m = p.nodes();
+        let what = format!("seed {seed}, {}D, m = {m}", p.dim());
         let fast = critical(&p, &CriticalSettings::default()).unwrap();
         let brute = critical(
             &p,
@@ -65,6 +126,10 @@ fn orbital_branching_keeps_mu_star() {
         .unwrap();
         assert_eq!(fast.status, brute.status, "{what}");
         mirrored_branchings += fast.info.mirrored;
+        if p.dim() == 3 {
+            mirrored_3d += fast.info.mirrored;
+            wedged_3d += (fast.status == CriticalStatus::Wedged) as usize;
+        }
         if fast.status != CriticalStatus::Wedged {
             continue;
         }
@@ -74,7 +139,13 @@ fn orbital_branching_keeps_mu_star() {
         assert!((a - b).abs() <= tol * b, "{what}: {a} against {b}");
         assert!(fast.lower.unwrap() <= b * (1.0 + 1e-9), "{what}");
     }
+    println!(
+        "{wedged} wedged ({wedged_3d} in 3D), {mirrored_branchings} mirrored branchings \
+         ({mirrored_3d} in 3D)"
+    );
     assert!(wedged >= 15, "{wedged} wedged");
+    assert!(wedged_3d >= 4, "{wedged_3d} wedged in 3D");
+    assert!(mirrored_3d >= 10, "{mirrored_3d} mirrored branchings in 3D");
     assert!(
         mirrored_branchings >= 30,
         "{mirrored_branchings} mirrored branchings"

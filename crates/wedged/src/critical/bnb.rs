@@ -98,8 +98,8 @@ struct Search<'a, 'b, 'c> {
     tightened: AtomicU64,
     /// The simplex method's counts (the programs of a search with drive cuts).
     lp: LpCounters,
-    /// The problem's mirror symmetry ([`crate::Problem::mirror`]), not in a certified run.
-    mirror: Option<Vec<usize>>,
+    /// The problem's symmetries ([`crate::Problem::symmetries`]), none in a certified run.
+    mirrors: Vec<Vec<usize>>,
     /// Branchings that separated a mirror image too.
     mirrored: AtomicU64,
 }
@@ -371,20 +371,26 @@ impl Search<'_, '_, '_> {
                     .unwrap_or(free[0])
             }
         };
-        // Orbital branching: at a node whose classes the mirror keeps, a solution with the
-        // branch node separated and its image in contact has a mirror image (the same friction
-        // ratios, in this node's subtree) with the branch node in contact, which the first child
-        // holds; so the second child separates the image too.
-        let image = self.mirror.as_ref().and_then(|s| {
-            let kept = s.iter().enumerate().all(|(i, &j)| classes[j] == classes[i]);
-            (kept && s[branch] != branch).then_some(s[branch])
-        });
+        // Orbital branching: at a node whose classes a symmetry keeps, a solution with the
+        // branch node separated and its image pressed has an image (the same friction ratios,
+        // in this node's subtree) with the branch node pressed, which the first child holds;
+        // so the second child separates the image too, for every symmetry that keeps the
+        // classes at once (each such solution is covered by its own symmetry's image).
+        let images: Vec<usize> = self
+            .mirrors
+            .iter()
+            .filter(|s| s.iter().enumerate().all(|(i, &j)| classes[j] == classes[i]))
+            .map(|s| s[branch])
+            .filter(|&j| j != branch)
+            .collect();
         let mut to_contact = classes.clone();
         to_contact[branch] = Class::Contact;
         let mut to_separated = classes;
         to_separated[branch] = Class::Separated;
-        if let Some(image) = image {
+        for &image in &images {
             to_separated[image] = Class::Separated;
+        }
+        if !images.is_empty() {
             self.mirrored.fetch_add(1, Ordering::Relaxed);
         }
         (
@@ -447,10 +453,10 @@ pub(super) fn run(
         tightened: AtomicU64::new(0),
         lp: LpCounters::default(),
         // Not in a certified run: the subtrees it skips have no refutation to check.
-        mirror: if ctx.form.refutations.is_none() {
-            ctx.form.problem.mirror()
+        mirrors: if ctx.form.refutations.is_none() {
+            ctx.form.problem.symmetries()
         } else {
-            None
+            Vec::new()
         },
         mirrored: AtomicU64::new(0),
     };

@@ -223,8 +223,8 @@ pub struct CriticalInfo {
     /// Search nodes that tightened the bounds behind their drive cuts (bnb without
     /// `certify`; see `critical/cuts.rs`), two programs per undecided node each.
     pub bound_tightenings: u64,
-    /// Branchings whose separated child separated the branch node's mirror image too (bnb
-    /// without `certify`, on a problem with a [`crate::Problem::mirror`]).
+    /// Branchings whose separated child separated the branch node's mirror images too (bnb
+    /// without `certify`, on a problem with [`crate::Problem::symmetries`]).
     pub mirrored: u64,
     /// Linear programs of a search with drive cuts decided by the in-house simplex method,
     /// warm-started (2D bnb without `certify`; see `simplex.rs`).
