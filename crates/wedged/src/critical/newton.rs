@@ -33,6 +33,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::polish;
 use crate::conic::program::{Formulation, Refutation};
+use crate::solution::tangential;
 
 /// A node whose ratio is within this share of `theta` starts as slipping.
 const SLIPPING: f64 = 1e-5;
@@ -214,15 +215,6 @@ impl Polished {
             polish::check(form, contact, &y, mu)
         })
     }
-}
-
-/// `||r_t||` of node `j`.
-fn tangential(r: &[f64], d: usize, j: usize) -> f64 {
-    r[d * j + 1..d * j + d]
-        .iter()
-        .map(|x| x * x)
-        .sum::<f64>()
-        .sqrt()
 }
 
 /// A solution of the optimality system: `theta`, the pressed nodes' reactions (`d` each), the
