@@ -285,31 +285,16 @@ impl System<'_, '_> {
         })
     }
 
-    /// Multipliers that best fit the stationarity conditions at `(theta, x)`.
+    /// Multipliers that best fit the stationarity conditions at `(theta, x)`: those rows of
+    /// the system (in `x` and in `theta`) are linear in the multipliers, so their block of the
+    /// Jacobian at zero multipliers, against the residual there, is the least-squares problem.
     fn fit(&self, theta: f64, x: &[f64]) -> Option<(Vec<f64>, f64, Vec<f64>)> {
         let d = self.form.dim;
         let (p, q) = (self.pressed.len(), self.rows.len());
-        let cols = q + 1 + p;
-        let mut a = DMatrix::zeros(d * p + 1, cols);
-        let mut b = DVector::zeros(d * p + 1);
-        for (pi, &j) in self.pressed.iter().enumerate() {
-            for c in 0..d {
-                let row = d * pi + c;
-                for (ri, &k) in self.rows.iter().enumerate() {
-                    a[(row, ri)] = -self.form.gap_row(k)[d * j + c];
-                }
-                if c == 0 {
-                    a[(row, q)] = 1.0;
-                }
-                if self.slip[pi] {
-                    a[(row, q + 1 + pi)] = self.slip_gradient(theta, x, pi, c);
-                }
-            }
-            if self.slip[pi] {
-                a[(d * p, q + 1 + pi)] = x[d * pi];
-            }
-        }
-        b[d * p] = 1.0;
+        let (oa, n) = (d * p + 1, d * p + 1 + q + 1 + p);
+        let (jac, f) = self.linearise(theta, x, &vec![0.0; q], 0.0, &vec![0.0; p], n);
+        let a = jac.view((0, oa), (oa, n - oa)).clone_owned();
+        let b = -f.rows(0, oa);
         let svd = a.svd(true, true);
         let largest = svd.singular_values.iter().fold(0.0f64, |a, &x| a.max(x));
         let y = svd.solve(&b, 1e-12 * largest).ok()?;
