@@ -175,6 +175,8 @@ fn check_report(report: &Value, k: &DMatrix<f64>) {
             "lp_solves",
             "lp_pivots",
             "lp_fallbacks",
+            "mirrored",
+            "images",
             "seconds",
             "peak_rss_bytes",
         ]

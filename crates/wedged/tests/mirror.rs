@@ -3,15 +3,20 @@
 //! reversed; in 3D also a half turn, and both mirrors of the V-groove plug) and only then, and
 //! `critical`'s `bnb` separates a branch node's images with them on the nodes a symmetry keeps
 //! (orbital branching), which must not change `mu*`: on seeded symmetric problems it equals
-//! the brute force over contact sets, certified (which uses no symmetry).
+//! the brute force over contact sets, certified (which uses no symmetry). The pattern
+//! search's `bnb` branches the same way and makes the skipped regions' patterns as images of
+//! others: its maximal patterns and their statuses must equal the brute force's.
 
 use nalgebra::DMatrix;
 use wedged::examples::{plug2d, plug2d_tri, random_spd_problem};
-use wedged::{critical, CriticalMethod, CriticalSettings, CriticalStatus, Problem};
+use wedged::{
+    critical, enumerate_patterns, CriticalMethod, CriticalSettings, CriticalStatus, Outcome,
+    PatternMethod, PatternSettings, Problem,
+};
 
 /// `K + P K P^T` for the signed permutation of the node reversal `i -> m - 1 - i` with every
 /// image's tangent reversed: invariant under it.
-fn mirrored(k: &DMatrix<f64>) -> (DMatrix<f64>, Vec<usize>) {
+fn mirrored_k(k: &DMatrix<f64>) -> (DMatrix<f64>, Vec<usize>) {
     symmetrised(k, 2, &[1.0, -1.0], None)
 }
 
@@ -50,7 +55,7 @@ fn a_mirror_is_found_exactly_when_present() {
         let m = 2 + (seed % 6) as usize;
         let p = random_spd_problem(m, 1.5, seed);
         assert_eq!(p.mirror(), None, "seed {seed}");
-        let (k, image) = mirrored(p.stiffness());
+        let (k, image) = mirrored_k(p.stiffness());
         let q = Problem::new(2, k, 1.5).unwrap();
         assert_eq!(q.mirror(), Some(image), "seed {seed}");
     }
@@ -102,7 +107,7 @@ fn orbital_branching_keeps_mu_star() {
         let p = if seed < 30 {
             let m = 2 + (seed % 6) as usize;
             let base = random_spd_problem(m, 3.0, 500 + seed);
-            let (k, _) = mirrored(base.stiffness());
+            let (k, _) = mirrored_k(base.stiffness());
             Problem::new(2, k, 3.0).unwrap()
         } else {
             // 3D, one or two symmetries (m = 2, 4, 6).
@@ -150,4 +155,53 @@ fn orbital_branching_keeps_mu_star() {
         mirrored_branchings >= 30,
         "{mirrored_branchings} mirrored branchings"
     );
+}
+
+#[test]
+fn orbital_branching_keeps_the_patterns() {
+    let (mut mirrored, mut images, mut patterns) = (0, 0, 0);
+    for seed in 0..36u64 {
+        let (p, what) = if seed < 18 {
+            let m = 3 + (seed % 6) as usize;
+            let base = random_spd_problem(m, 2.0, 700 + seed);
+            let (k, _) = mirrored_k(base.stiffness());
+            (
+                Problem::new(2, k, 2.0).unwrap(),
+                format!("seed {seed}, 2D, m = {m}"),
+            )
+        } else {
+            let m = 2 * (1 + (seed % 4) as usize);
+            let base = wedged::examples::random_spd_problem_dim(3, m, 2.0, 700 + seed);
+            let second: Option<&[f64]> = (seed % 2 == 0).then_some(&[1.0, -1.0, 1.0]);
+            let (k, _) = symmetrised(base.stiffness(), 3, &[1.0, 1.0, -1.0], second);
+            (
+                Problem::new(3, k, 2.0).unwrap(),
+                format!("seed {seed}, 3D, m = {m}"),
+            )
+        };
+        let run = |method| {
+            let settings = PatternSettings {
+                method,
+                ..PatternSettings::default()
+            };
+            enumerate_patterns(&p, &settings).unwrap()
+        };
+        let (fast, brute) = (run(PatternMethod::Bnb), run(PatternMethod::Faces));
+        assert!(fast.undecided.is_empty(), "{what}: {:?}", fast.undecided);
+        assert_eq!(fast.outcome, brute.outcome, "{what}");
+        assert!(!matches!(fast.outcome, Outcome::Incomplete(_)), "{what}");
+        let pieces = |r: &wedged::Patterns| -> Vec<_> {
+            r.patterns
+                .iter()
+                .map(|q| (q.pattern.clone(), q.status.clone()))
+                .collect()
+        };
+        assert_eq!(pieces(&fast), pieces(&brute), "{what}");
+        mirrored += fast.info.mirrored;
+        images += fast.info.images;
+        patterns += fast.patterns.len();
+    }
+    println!("{patterns} patterns, {mirrored} mirrored branchings, {images} images made");
+    assert!(mirrored >= 20, "{mirrored} mirrored branchings");
+    assert!(images >= 20, "{images} images made");
 }

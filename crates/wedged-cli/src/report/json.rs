@@ -295,6 +295,8 @@ pub struct PatternInfoJson {
     pub lp_solves: u64,
     pub lp_pivots: u64,
     pub lp_fallbacks: u64,
+    pub mirrored: u64,
+    pub images: u64,
     pub seconds: f64,
     /// The process's peak resident memory (see [`peak_rss_bytes`]).
     pub peak_rss_bytes: Option<u64>,
@@ -322,6 +324,8 @@ impl PatternInfoJson {
             lp_solves,
             lp_pivots,
             lp_fallbacks,
+            mirrored,
+            images,
             seconds,
         } = *info;
         PatternInfoJson {
@@ -345,6 +349,8 @@ impl PatternInfoJson {
             lp_solves,
             lp_pivots,
             lp_fallbacks,
+            mirrored,
+            images,
             seconds,
             peak_rss_bytes: peak_rss_bytes(),
         }
@@ -750,8 +756,8 @@ mod tests {
         assert_eq!(info["method"], "pyramid");
         assert_eq!(info["pyramid_faces"], 12);
         assert_eq!(info["socps"], 7);
-        // method, pyramid_faces, the 19 fields of PatternInfo and peak_rss_bytes.
-        assert_eq!(info.len(), 22, "{info:?}");
+        // method, pyramid_faces, the 21 fields of PatternInfo and peak_rss_bytes.
+        assert_eq!(info.len(), 24, "{info:?}");
     }
 
     #[test]

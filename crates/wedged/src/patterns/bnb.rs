@@ -26,13 +26,17 @@
 //! relaxed solution breaks complementarity most (largest scaled `u_n r_n`); then the one pressed
 //! most. The two subtrees run in parallel (`rayon::join`).
 
+use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
+use super::orbits::{self, Orbit};
 use super::{leaf_pattern, Found, PatternInfo, Undecided};
 use crate::conic::cuts::Drive;
 use crate::conic::node_lp::{self as lp, LpCounters, Shape, Warm};
-use crate::conic::program::{Class, Counters, Decision, Entry, Formulation, Goal, Norm, POSITIVE};
+use crate::conic::program::{
+    Class, Counters, Decision, Entry, Formulation, Goal, Norm, Support, POSITIVE,
+};
 use crate::rays::Progress;
 use crate::run::Control;
 use crate::shard::{self, Explored, Shard, Walk};
@@ -46,6 +50,8 @@ struct Search<'a, 'b> {
     form: &'a Formulation<'b>,
     control: &'a Control<'a>,
     found: Mutex<Vec<Vec<ContactPattern>>>,
+    /// The witnesses that leaves' programs made, for the finishing step.
+    witnesses: Mutex<HashMap<Vec<ContactPattern>, Support>>,
     undecided: Mutex<Vec<Undecided>>,
     visited: AtomicU64,
     inherited: AtomicU64,
@@ -60,6 +66,11 @@ struct Search<'a, 'b> {
     /// as the 2D `pattern-search` does); `0` without the simplex method or for a floating body.
     tighten_depth: usize,
     tightened: AtomicU64,
+    /// The problem's symmetries, for orbital branching ([`super::orbits`]); none in a
+    /// certified or a sharded run (a skipped region's images come from another subtree).
+    symmetries: Vec<Vec<usize>>,
+    /// The branchings that skipped a region.
+    orbits: Mutex<Vec<Orbit>>,
 }
 
 /// A search node: the class of every node and, perhaps, a solution of its relaxation passed
@@ -143,7 +154,16 @@ impl shard::Tree for Search<'_, '_> {
                 return None;
             }
             match leaf_pattern(self.form, &contact) {
-                Ok(Some(q)) => self.found.lock().expect("no panics while held").push(q),
+                Ok(Some(leaf)) => {
+                    if let Some(witness) = leaf.witness {
+                        let mut known = self.witnesses.lock().expect("no panics while held");
+                        known.insert(leaf.pattern.clone(), witness);
+                    }
+                    self.found
+                        .lock()
+                        .expect("no panics while held")
+                        .push(leaf.pattern)
+                }
                 Ok(None) => {}
                 Err(reason) => self
                     .undecided
@@ -291,10 +311,37 @@ impl shard::Tree for Search<'_, '_> {
             }
             None => (None, None),
         };
+        // Orbital branching ([`super::orbits`]): where a symmetry keeps the classes, the
+        // separated child separates the branch node's image too, and the patterns it skips
+        // are made after the search as images of the contact child's.
+        let images: Vec<usize> = (0..self.symmetries.len())
+            .filter(|&k| {
+                let s = &self.symmetries[k];
+                s[branch] != branch && (0..m).all(|i| classes[s[i]] == classes[i])
+            })
+            .collect();
         let mut contact = classes.clone();
         contact[branch] = Class::Contact;
-        let mut separated = classes;
+        let mut separated = classes.clone();
         separated[branch] = Class::Separated;
+        let mut to_separated = to_separated;
+        if !images.is_empty() {
+            for &k in &images {
+                separated[self.symmetries[k][branch]] = Class::Separated;
+            }
+            to_separated = None;
+            if !rehearsal {
+                self.orbits
+                    .lock()
+                    .expect("no panics while held")
+                    .push(Orbit {
+                        depth,
+                        classes,
+                        branch,
+                        symmetries: images,
+                    });
+            }
+        }
         Some((
             Node {
                 classes: contact,
@@ -357,6 +404,7 @@ pub(super) fn run(
         form,
         control,
         found: Mutex::new(Vec::new()),
+        witnesses: Mutex::new(HashMap::new()),
         undecided: Mutex::new(Vec::new()),
         visited: AtomicU64::new(0),
         inherited: AtomicU64::new(0),
@@ -374,6 +422,12 @@ pub(super) fn run(
             0
         },
         tightened: AtomicU64::new(0),
+        symmetries: if form.refutations.is_none() && shard.is_none() {
+            form.problem.symmetries()
+        } else {
+            Vec::new()
+        },
+        orbits: Mutex::new(Vec::new()),
     };
     let explored = Explored::new();
     let walk = Walk::new(&search, &explored);
@@ -395,9 +449,14 @@ pub(super) fn run(
     info.lp_solves = search.lp.solves.into_inner();
     info.lp_pivots = search.lp.pivots.into_inner();
     info.lp_fallbacks = search.lp.fallbacks.into_inner();
+    let mut patterns = search.found.into_inner().unwrap_or_default();
+    let orbits = search.orbits.into_inner().unwrap_or_default();
+    info.mirrored = orbits.len() as u64;
+    info.images = orbits::add_images(&search.symmetries, orbits, &mut patterns);
     Found {
-        patterns: search.found.into_inner().unwrap_or_default(),
+        patterns,
         undecided: search.undecided.into_inner().unwrap_or_default(),
         shard: split,
+        witnesses: search.witnesses.into_inner().unwrap_or_default(),
     }
 }

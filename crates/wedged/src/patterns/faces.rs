@@ -12,11 +12,7 @@ use crate::run::Control;
 
 pub(super) fn run(form: &Formulation, info: &mut PatternInfo, control: &Control) -> Found {
     let m = form.m;
-    let mut found = Found {
-        patterns: Vec::new(),
-        undecided: Vec::new(),
-        shard: None,
-    };
+    let mut found = Found::default();
     for set in 1u64..(1u64 << m) {
         if control.must_stop(0) {
             break;

@@ -171,6 +171,8 @@ fn add_info(sum: &mut PatternInfo, part: &PatternInfo) {
         lp_solves,
         lp_pivots,
         lp_fallbacks,
+        mirrored,
+        images,
         seconds,
     } = *part;
     sum.nodes_visited += nodes_visited;
@@ -191,5 +193,7 @@ fn add_info(sum: &mut PatternInfo, part: &PatternInfo) {
     sum.lp_solves += lp_solves;
     sum.lp_pivots += lp_pivots;
     sum.lp_fallbacks += lp_fallbacks;
+    sum.mirrored += mirrored;
+    sum.images += images;
     sum.seconds = sum.seconds.max(seconds);
 }

@@ -26,20 +26,22 @@
 mod bnb;
 mod certify;
 mod faces;
+mod leaf;
+pub(crate) use leaf::leaf_pattern;
 mod merge;
+mod orbits;
 
 mod pyramid;
 mod search;
 
 use rayon::prelude::*;
+use std::collections::HashMap;
 use std::fmt;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
 use crate::conic::contact_lp::ContactLp;
-use crate::conic::program::{
-    self, describe, leaf_classes, Class, Counters, Entry, Formulation, Norm, POSITIVE,
-};
+use crate::conic::program::{describe, Class, Counters, Entry, Formulation, Support, POSITIVE};
 pub use certify::PatternCertificate;
 pub(crate) use merge::every_shard;
 pub use merge::{check_shards, keep_maximal, merge_shards, missing_text};
@@ -198,6 +200,11 @@ pub struct PatternInfo {
     pub lp_solves: u64,
     pub lp_pivots: u64,
     pub lp_fallbacks: u64,
+    /// `bnb`'s branchings that separated a node's mirror image too (orbital branching, see
+    /// [`crate::Problem::symmetries`]), and the patterns made as images for the regions they
+    /// skipped.
+    pub mirrored: u64,
+    pub images: u64,
     /// Wall-clock seconds.
     pub seconds: f64,
 }
@@ -221,11 +228,15 @@ pub struct Patterns {
 }
 
 /// What a method hands to the finishing step: realised patterns (not necessarily maximal).
+#[derive(Default)]
 pub(crate) struct Found {
     pub patterns: Vec<Vec<ContactPattern>>,
     pub undecided: Vec<Undecided>,
     /// How a sharded search was split.
     pub shard: Option<ShardReport>,
+    /// Witnesses already made on the way ([`leaf::Leaf::witness`]), by pattern: the finishing step
+    /// takes them instead of solving its program again.
+    pub witnesses: HashMap<Vec<ContactPattern>, Support>,
 }
 
 /// Enumerates the maximal realised sign patterns of a 2D or 3D problem.
@@ -325,9 +336,11 @@ fn run(
     let mut info = PatternInfo::default();
     // A maximal pattern witnessed (in the search's units), mapped back to the problem's units
     // and checked there: the reported pattern and the scaled one (for the certificate).
-    let witness_lp = (form.dim == 2 && form.modes == 0).then(|| ContactLp::new(&form));
+    let witness_lp = simplex_witness(&form).then(|| ContactLp::new(&form));
+    let known = std::sync::OnceLock::<HashMap<Vec<ContactPattern>, Support>>::new();
     let finish_checked = |q: &[ContactPattern]| {
-        finish(&form, witness_lp.as_ref(), q).and_then(|p| {
+        let known = known.get().and_then(|w| w.get(q));
+        finish(&form, witness_lp.as_ref(), q, known).and_then(|p| {
             let (u, r) = original.unscale(&scales, &p.u, &p.r);
             crate::solution::check_solution(original, original.mu(), &u, &r)
                 .map_err(|why| format!("the witness in the problem's own units: {why}"))?;
@@ -358,11 +371,7 @@ fn run(
         },
     };
     let found = if control.must_stop(0) {
-        Found {
-            patterns: Vec::new(),
-            undecided: Vec::new(),
-            shard: None,
-        }
+        Found::default()
     } else {
         match settings.method {
             PatternMethod::Bnb => bnb::run(&form, &mut info, settings.shard, progress, &control),
@@ -388,6 +397,7 @@ fn run(
     // pattern-search counts its leaves' patterns itself (maximal or not).
     info.realised = info.realised.max(found.patterns.len() as u64);
     let shard = found.shard;
+    known.get_or_init(|| found.witnesses);
     let mut patterns = Vec::new();
     // The witnesses in the units the search ran in, for the certificate.
     let mut scaled = Vec::new();
@@ -571,20 +581,18 @@ fn finish(
     form: &Formulation,
     lp: Option<&ContactLp>,
     q: &[ContactPattern],
+    known: Option<&Support>,
 ) -> Result<Pattern, String> {
     let classes = classes_of(q);
     let wanted = positives(q);
-    let contact: Vec<usize> = (0..form.m)
-        .filter(|&i| q[i] == ContactPattern::Contact)
-        .collect();
-    let mut all = wanted.clone();
-    all.extend(contact.iter().map(|&i| Entry::Stick(i)));
-    let program::Support {
+    let all = witness_entries(q);
+    let Support {
         entries: support,
         r,
         value: margin,
-    } = match lp.map(|lp| lp.witness(&classes, &all)) {
-        Some(Ok(support)) => support,
+    } = match (known, lp.map(|lp| lp.witness(&classes, &all))) {
+        (Some(known), _) if all.iter().all(|e| known.entries.contains(e)) => Some(known.clone()),
+        (_, Some(Ok(support))) => support,
         _ => form.support(&classes, &all)?,
     }
     .ok_or("a realised pattern's cone has become trivial")?;
@@ -615,6 +623,18 @@ fn finish(
         r,
         margin,
     })
+}
+
+/// The entries a witness of the pattern `q` pushes up together ([`finish`]): its positive
+/// entries, then the stick slack of each contact node.
+pub(super) fn witness_entries(q: &[ContactPattern]) -> Vec<Entry> {
+    let mut all = positives(q);
+    all.extend(
+        (0..q.len())
+            .filter(|&i| q[i] == ContactPattern::Contact)
+            .map(Entry::Stick),
+    );
+    all
 }
 
 /// The relative accuracy a witness must meet: equalities within it (relative to the terms they
@@ -682,66 +702,7 @@ pub(crate) fn check_witness(
     Ok(())
 }
 
-/// The search over contact sets: the classes of a leaf whose contact set is `contact`, and its
-/// realised pattern (contact set pressed, separated nodes' gaps opened where they can be), or
-/// `None` when not every node of the contact set can be pressed.
-pub(crate) fn leaf_pattern(
-    form: &Formulation,
-    contact: &[bool],
-) -> Result<Option<Vec<ContactPattern>>, String> {
-    let classes = leaf_classes(contact);
-    // One support program: a node of the contact set that no solution presses is missing
-    // from the support, and then the leaf has no pattern of its own.
-    let mut wanted: Vec<Entry> = (0..form.m)
-        .filter(|&i| contact[i])
-        .map(Entry::Press)
-        .collect();
-    let presses = wanted.len();
-    wanted.extend((0..form.m).filter(|&i| !contact[i]).map(Entry::Gap));
-    // In a certified run, every entry left out is confirmed zero by a certificate (or the
-    // decision is doubted).
-    let Some(support) = form.support(&classes, &wanted)? else {
-        if let Err(e) = form.confirm(&classes, Norm::Sum) {
-            form.doubt(format!("the trivial leaf [{}]: {e}", describe(&classes)));
-        }
-        return Ok(None);
-    };
-    let missing: Vec<Entry> = wanted
-        .iter()
-        .copied()
-        .filter(|e| !support.entries.contains(e))
-        .collect();
-    let pressed = presses
-        - missing
-            .iter()
-            .filter(|e| matches!(e, Entry::Press(_)))
-            .count();
-    if pressed < presses {
-        // No solution presses the whole contact set: shown at once, or by one node that no
-        // solution presses.
-        let nodes: Vec<usize> = (0..form.m).filter(|&i| contact[i]).collect();
-        if let Err(e) = form.confirm(&classes, Norm::Pressed(&nodes)) {
-            let one = missing
-                .iter()
-                .filter(|e| matches!(e, Entry::Press(_)))
-                .any(|&p| form.confirm_entry(&classes, p).is_ok());
-            if !one {
-                form.doubt(format!(
-                    "the leaf [{}], whose contact nodes are not all pressed: {e}",
-                    describe(&classes)
-                ));
-            }
-        }
-        return Ok(None);
-    }
-    for &e in &missing {
-        if let Err(why) = form.confirm_entry(&classes, e) {
-            form.doubt(format!(
-                "{} not positive at the leaf [{}]: {why}",
-                e.name(),
-                describe(&classes)
-            ));
-        }
-    }
-    Ok(Some(pattern_of(form.m, &support.entries)))
+/// Whether [`finish`] makes its witnesses by the simplex method: 2D, a clamped body.
+pub(super) fn simplex_witness(form: &Formulation) -> bool {
+    form.dim == 2 && form.modes == 0
 }

@@ -56,11 +56,7 @@ pub(super) fn run(
     control: &Control,
 ) -> Found {
     let (candidates, rays) = candidates(form.problem, faces, zero_tol, progress, control);
-    let mut found = Found {
-        patterns: Vec::new(),
-        undecided: Vec::new(),
-        shard: None,
-    };
+    let mut found = Found::default();
     if control.stopped().is_some() {
         return found;
     }

@@ -125,9 +125,12 @@ pub(super) fn run(
     // backed by refutations (`super::leaf_pattern`, as `bnb`'s leaves), and keeps every leaf's
     // pattern: the maximal ones are then found by comparison, not by the maximality search.
     let on_certified_leaf = |contact: Vec<bool>| match super::leaf_pattern(form, &contact) {
-        Ok(Some(p)) => {
+        Ok(Some(leaf)) => {
             realised.fetch_add(1, Ordering::Relaxed);
-            leaves.lock().expect("no panics while held").push(p);
+            leaves
+                .lock()
+                .expect("no panics while held")
+                .push(leaf.pattern);
         }
         Ok(None) => {}
         Err(reason) => undecided_leaf(contact, reason),
@@ -154,5 +157,6 @@ pub(super) fn run(
         patterns: leaves.into_inner().unwrap_or_default(),
         undecided,
         shard: tree.shard,
+        witnesses: Default::default(),
     }
 }

@@ -1,8 +1,13 @@
-//! The diagnostics line of a ray method's summary ([`info_line`]).
+//! The diagnostics of a summary: a ray method's line ([`info_line`]) and a pattern method's
+//! lines ([`pattern_info`]).
 
-use wedged::Info;
+use std::fmt::Write;
 
-use super::{plural, seconds_text};
+use wedged::patterns::{PatternMethod, Patterns};
+use wedged::{Info, Outcome, Problem, Stop};
+
+use super::{plural, seconds_text, wrapped};
+use crate::report::answer::Choice;
 
 /// Entries of `rays_after_node` printed on the info line.
 const INFO_LIST_LIMIT: usize = 20;
@@ -105,4 +110,134 @@ pub(super) fn linear_programs(solves: u64, pivots: u64, fallbacks: u64) -> Strin
         "{} ({pivots} pivots, {fallbacks} passed to Clarabel)",
         plural(solves as usize, "linear program", "linear programs"),
     )
+}
+
+/// `2^m - minus` as an exact integer while it is short, else in floating point.
+pub(super) fn power_of_two(m: usize, minus: u64) -> String {
+    if m <= 40 {
+        ((1u64 << m) - minus).to_string()
+    } else {
+        format!("{:.3e}", 2f64.powi(m as i32))
+    }
+}
+
+/// The share of the full binary tree over the `m` nodes (`2^(m+1) - 1` search nodes) that the
+/// branch and bound never visited: `1 - (nodes_visited + leaves) / (2^(m+1) - 1)`.
+pub(super) fn pruned_fraction(m: usize, nodes_visited: u64, leaves: u64) -> f64 {
+    let tree = 2f64.powi(m as i32 + 1) - 1.0;
+    (1.0 - (nodes_visited + leaves) as f64 / tree).clamp(0.0, 1.0)
+}
+
+/// The diagnostics of a pattern method: the search, the conic programs, the time.
+pub(super) fn pattern_info(
+    out: &mut String,
+    problem: &Problem,
+    choice: &Choice,
+    result: &Patterns,
+) {
+    let m = problem.nodes();
+    let info = &result.info;
+    let _ = writeln!(
+        out,
+        "info: {}{}; {} realised, {} of them maximal",
+        seconds_text(info.seconds),
+        crate::report::json::peak_memory_text(),
+        plural(info.realised as usize, "pattern", "patterns"),
+        result.patterns.len() + info.streamed as usize
+    );
+    let search = match choice {
+        Choice::Patterns(s) if s.method == PatternMethod::Bnb => {
+            let fraction = match result.outcome {
+                // A search stopped early has not pruned what it did not reach.
+                Outcome::Incomplete(stop) if stop != Stop::Undecided => {
+                    "the search stopped before the end".to_string()
+                }
+                _ => format!(
+                    "pruned fraction {:.4} (the share of the 2^{} - 1 = {} nodes of the full \
+                     tree never visited)",
+                    pruned_fraction(m, info.nodes_visited, info.leaves),
+                    m + 1,
+                    power_of_two(m + 1, 1)
+                ),
+            };
+            // Inner nodes by the simplex method (not in a certified run; in 3D on a polygon's
+            // cone that holds the friction cone), leaves by the cone program.
+            let programs = match info.lp_solves {
+                0 => String::new(),
+                _ => format!(
+                    "; inner nodes by {}",
+                    linear_programs(info.lp_solves, info.lp_pivots, info.lp_fallbacks)
+                ),
+            };
+            // Orbital branching (a symmetry of the problem): the regions it skipped are filled
+            // with images of the patterns found.
+            let mirrored = match info.mirrored {
+                0 => String::new(),
+                n => format!(
+                    "; {} separated a node's mirror image too, {} made as images",
+                    plural(n as usize, "branching", "branchings"),
+                    plural(info.images as usize, "pattern", "patterns")
+                ),
+            };
+            format!(
+                "branch and bound: {} visited, {} pruned (infeasible) + {} pruned (a contact node \
+                 could not be pressed), {} reached of 2^{m} = {}; {fraction}{programs}{mirrored}",
+                plural(info.nodes_visited as usize, "node", "nodes"),
+                info.pruned_infeasible,
+                info.pruned_unpressed,
+                plural(info.leaves as usize, "leaf", "leaves"),
+                power_of_two(m, 0),
+            )
+        }
+        Choice::Patterns(s) if matches!(s.method, PatternMethod::Pyramid { .. }) => {
+            let faces = match s.method {
+                PatternMethod::Pyramid { faces } if problem.dim() == 3 => {
+                    format!("{faces} faces")
+                }
+                _ => "2D: exact, the friction law is already polyhedral".to_string(),
+            };
+            format!(
+                "pyramid approximation ({faces}): {} of the approximation, {} (its maximal \
+                 patterns), {} spurious (not realised as they stood)",
+                plural(info.pyramid_rays as usize, "ray", "rays"),
+                plural(info.candidates as usize, "candidate", "candidates"),
+                info.spurious
+            )
+        }
+        Choice::Patterns(s) if s.method == PatternMethod::Search => format!(
+            "contact-set search: {} visited, {} pruned (no solution presses the contact nodes \
+             at once), {} inherited their parent's solution, {} bounded the drives of their \
+             free nodes, {} (contact sets pressed exactly) of 2^{m} = {}; {}",
+            plural(info.nodes_visited as usize, "node", "nodes"),
+            info.pruned_infeasible,
+            info.nodes_inherited,
+            info.bound_tightenings,
+            plural(info.leaves as usize, "leaf", "leaves"),
+            power_of_two(m, 0),
+            linear_programs(info.lp_solves, info.lp_pivots, info.lp_fallbacks),
+        ),
+        _ => format!(
+            "brute force: {} of the 2^{m} - 1 = {} nonempty contact sets have a nontrivial cone",
+            info.candidates,
+            power_of_two(m, 1)
+        ),
+    };
+    wrapped(out, 2, 4, &search);
+    wrapped(
+        out,
+        2,
+        4,
+        &format!(
+            "{} solved ({} retried, {} undecided, {} near-degenerate {})",
+            plural(info.socps as usize, "SOCP", "SOCPs"),
+            info.retries,
+            info.uncertain,
+            info.near_degenerate,
+            if info.near_degenerate == 1 {
+                "decision"
+            } else {
+                "decisions"
+            }
+        ),
+    );
 }
