@@ -337,9 +337,8 @@ fn run(
     // A maximal pattern witnessed (in the search's units), mapped back to the problem's units
     // and checked there: the reported pattern and the scaled one (for the certificate).
     let witness_lp = simplex_witness(&form).then(|| ContactLp::new(&form));
-    let known = std::sync::OnceLock::<HashMap<Vec<ContactPattern>, Support>>::new();
-    let finish_checked = |q: &[ContactPattern]| {
-        let known = known.get().and_then(|w| w.get(q));
+    // `known`: the pattern's witness, when the search made it already.
+    let finish_checked = |q: &[ContactPattern], known: Option<&Support>| {
         finish(&form, witness_lp.as_ref(), q, known).and_then(|p| {
             let (u, r) = original.unscale(&scales, &p.u, &p.r);
             crate::solution::check_solution(original, original.mu(), &u, &r)
@@ -354,12 +353,18 @@ fn run(
     // pattern-search hands on each maximal pattern as it is found: kept for the finishing
     // step, or witnessed and streamed (not with --certify, where it returns every leaf's
     // pattern and the finishing step below streams the maximal ones).
-    let kept = std::sync::Mutex::new(Vec::new());
+    let kept = std::sync::Mutex::new((Vec::new(), HashMap::new()));
     let streamed = AtomicU64::new(0);
     let unfinished = std::sync::Mutex::new(Vec::new());
-    let emit = |q: Vec<ContactPattern>| match sink {
-        None => kept.lock().expect("no panics while held").push(q),
-        Some(sink) => match finish_checked(&q) {
+    let emit = |q: Vec<ContactPattern>, witness: Option<Support>| match sink {
+        None => {
+            let mut kept = kept.lock().expect("no panics while held");
+            if let Some(w) = witness {
+                kept.1.insert(q.clone(), w);
+            }
+            kept.0.push(q)
+        }
+        Some(sink) => match finish_checked(&q, witness.as_ref()) {
             Ok((p, _)) => {
                 streamed.fetch_add(1, Ordering::Relaxed);
                 sink(p)
@@ -379,9 +384,9 @@ fn run(
             PatternMethod::Search => {
                 let mut found =
                     search::run(&form, &mut info, settings.shard, progress, &control, &emit);
-                found
-                    .patterns
-                    .append(&mut kept.lock().expect("no panics while held"));
+                let (patterns, witnesses) = kept.into_inner().expect("no panics while held");
+                found.patterns.extend(patterns);
+                found.witnesses.extend(witnesses);
                 found
             }
             PatternMethod::Pyramid { faces } => pyramid::run(
@@ -397,7 +402,7 @@ fn run(
     // pattern-search counts its leaves' patterns itself (maximal or not).
     info.realised = info.realised.max(found.patterns.len() as u64);
     let shard = found.shard;
-    known.get_or_init(|| found.witnesses);
+    let known = found.witnesses;
     let mut patterns = Vec::new();
     // The witnesses in the units the search ran in, for the certificate.
     let mut scaled = Vec::new();
@@ -407,9 +412,15 @@ fn run(
     // --certify, whose refutations are recorded as they are made).
     let pieces = maximal(found.patterns);
     let finished: Vec<_> = if settings.certify {
-        pieces.iter().map(|q| finish_checked(q)).collect()
+        pieces
+            .iter()
+            .map(|q| finish_checked(q, known.get(q)))
+            .collect()
     } else {
-        pieces.par_iter().map(|q| finish_checked(q)).collect()
+        pieces
+            .par_iter()
+            .map(|q| finish_checked(q, known.get(q)))
+            .collect()
     };
     for (q, finished) in pieces.iter().zip(finished) {
         match finished {
