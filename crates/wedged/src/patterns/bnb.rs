@@ -296,7 +296,7 @@ impl shard::Tree for Search<'_, '_> {
         };
         // A child inherits the witness when it already meets the child's constraints: a
         // closed gap with a positive pressure (contact), or no reaction (separated).
-        let (to_contact, to_separated) = match &witness {
+        let (to_contact, mut to_separated) = match &witness {
             Some(r) => {
                 let d = self.form.dim;
                 let (gap, rn) = (self.form.gap_of(r, branch), r[d * branch]);
@@ -324,7 +324,6 @@ impl shard::Tree for Search<'_, '_> {
         contact[branch] = Class::Contact;
         let mut separated = classes.clone();
         separated[branch] = Class::Separated;
-        let mut to_separated = to_separated;
         if !images.is_empty() {
             for &k in &images {
                 separated[self.symmetries[k][branch]] = Class::Separated;

@@ -1,7 +1,7 @@
 //! The leaf of a search over contact sets (`bnb`, a certified `pattern-search`): its realised
 //! pattern, from the cone programs.
 
-use super::{pattern_of, simplex_witness, witness_entries};
+use super::{pattern_of, simplex_witness, whole_pattern, witness_entries};
 use crate::conic::program::{
     describe, leaf_classes, Decision, Entry, Formulation, Goal, Norm, Support, POSITIVE,
 };
@@ -10,7 +10,8 @@ use crate::solution::ContactPattern;
 /// A leaf's realised pattern ([`leaf_pattern`]).
 pub(crate) struct Leaf {
     pub pattern: Vec<ContactPattern>,
-    /// Its witness for the finishing step ([`finish`]), when the leaf's program made one.
+    /// Its witness for the finishing step ([`super::finish`]), when the leaf's program made
+    /// one.
     pub witness: Option<Support>,
 }
 
@@ -36,13 +37,7 @@ pub(crate) fn leaf_pattern(form: &Formulation, contact: &[bool]) -> Result<Optio
     let first = if simplex_witness(form) {
         None
     } else {
-        let pattern: Vec<ContactPattern> = contact
-            .iter()
-            .map(|&c| match c {
-                true => ContactPattern::Contact,
-                false => ContactPattern::Separated,
-            })
-            .collect();
+        let pattern = whole_pattern(contact);
         let all = witness_entries(&pattern);
         match form.decide(&classes, Goal::MaxMin(&all)) {
             Decision::Yes { r, value } if value > POSITIVE => {

@@ -636,6 +636,18 @@ fn finish(
     })
 }
 
+/// The pattern of a leaf whose contact set is `contact` when every node of it is pressed and
+/// every other gap opens (the first thing a leaf asks; [`leaf_pattern`], `search.rs`).
+pub(super) fn whole_pattern(contact: &[bool]) -> Vec<ContactPattern> {
+    contact
+        .iter()
+        .map(|&c| match c {
+            true => ContactPattern::Contact,
+            false => ContactPattern::Separated,
+        })
+        .collect()
+}
+
 /// The entries a witness of the pattern `q` pushes up together ([`finish`]): its positive
 /// entries, then the stick slack of each contact node.
 pub(super) fn witness_entries(q: &[ContactPattern]) -> Vec<Entry> {

@@ -61,13 +61,7 @@ fn leaf_piece(lp: &ContactLp, control: &Control, contact: &[bool]) -> Result<Pie
     // maximal, and its witness is found (random m = 9 problems: every leaf, 82 of 82).
     // Otherwise the support program says which entries can be positive.
     if lp.form().modes == 0 {
-        let full: Vec<ContactPattern> = contact
-            .iter()
-            .map(|&c| match c {
-                true => ContactPattern::Contact,
-                false => ContactPattern::Separated,
-            })
-            .collect();
+        let full = super::whole_pattern(contact);
         let all = super::witness_entries(&full);
         if let Ok(Some((r, value))) = lp.max_min(&classes, &all) {
             if value > POSITIVE {
