@@ -601,10 +601,12 @@ fn finish(
         entries: support,
         r,
         value: margin,
-    } = match (known, lp.map(|lp| lp.witness(&classes, &all))) {
-        (Some(known), _) if all.iter().all(|e| known.entries.contains(e)) => Some(known.clone()),
-        (_, Some(Ok(support))) => support,
-        _ => form.support(&classes, &all)?,
+    } = match known {
+        Some(known) if all.iter().all(|e| known.entries.contains(e)) => Some(known.clone()),
+        _ => match lp.map(|lp| lp.witness(&classes, &all)) {
+            Some(Ok(support)) => support,
+            _ => form.support(&classes, &all)?,
+        },
     }
     .ok_or("a realised pattern's cone has become trivial")?;
     if !wanted.iter().all(|e| support.contains(e)) {
