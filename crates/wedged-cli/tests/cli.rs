@@ -1033,6 +1033,8 @@ fn check_critical_keys(report: &Value) {
         "leaves_solved",
         "bound_tightenings",
         "mirrored",
+        "dive_nodes",
+        "improvement_steps",
         "simplex_solves",
         "simplex_fallbacks",
         "dinkelbach_steps",
@@ -1050,7 +1052,7 @@ fn check_critical_keys(report: &Value) {
     ] {
         assert!(info.contains_key(key), "missing info.{key}: {info:?}");
     }
-    assert_eq!(info.len(), 20, "{info:?}");
+    assert_eq!(info.len(), 22, "{info:?}");
 }
 
 /// One node with `K_nn = 2, K_nt = 1, K_tt = 1`: `mu* = K_tt / |K_nt| = 1`.

@@ -40,9 +40,9 @@ use std::path::Path;
 
 use serde::Serialize;
 use wedged::fe::Model;
-use wedged::{
-    Critical, CriticalInfo, CriticalSettings, CriticalStatus, NodeStatus, PatternThreshold, Problem,
-};
+use wedged::{Critical, CriticalSettings, CriticalStatus, NodeStatus, PatternThreshold, Problem};
+
+mod info;
 
 use crate::report::answer::fingerprint;
 use crate::report::json::{ModelJson, ShardJson, UndecidedJson};
@@ -50,6 +50,7 @@ use crate::report::sig4;
 use crate::report::summary::{
     codes, pattern_code, plural, seconds_text, status_code, status_legend, wrapped, PATTERN_LEGEND,
 };
+pub use info::CriticalInfoJson;
 
 /// Witness nodes listed one per line; beyond, one character per node.
 const NODE_LINES_UP_TO: usize = 24;
@@ -117,82 +118,6 @@ pub struct ThresholdJson {
     pub pattern: Vec<&'static str>,
     pub threshold: f64,
     pub lower: f64,
-}
-
-/// Every field of [`wedged::CriticalInfo`], under the same names (`tol_achieved` is `null`
-/// without a bracket).
-#[derive(Debug, Serialize)]
-pub struct CriticalInfoJson {
-    pub method: &'static str,
-    pub nodes_visited: u64,
-    pub pruned_infeasible: u64,
-    pub leaves_solved: u64,
-    pub bound_tightenings: u64,
-    pub mirrored: u64,
-    pub simplex_solves: u64,
-    pub simplex_fallbacks: u64,
-    pub dinkelbach_steps: u64,
-    pub bisection_steps: u64,
-    pub certificates: u64,
-    pub loosened: u64,
-    pub tol_achieved: Option<f64>,
-    pub mu_enumerated: Option<f64>,
-    pub patterns_enumerated: u64,
-    pub socps: u64,
-    pub retries: u64,
-    pub uncertain: u64,
-    pub seconds: f64,
-    /// The process's peak resident memory ([`crate::report::json::peak_rss_bytes`]).
-    pub peak_rss_bytes: Option<u64>,
-}
-
-impl CriticalInfoJson {
-    fn new(info: &CriticalInfo, bracketed: bool) -> CriticalInfoJson {
-        // No `..`: a new field of CriticalInfo must be added here too.
-        let CriticalInfo {
-            method,
-            nodes_visited,
-            pruned_infeasible,
-            leaves_solved,
-            bound_tightenings,
-            mirrored,
-            simplex_solves,
-            simplex_fallbacks,
-            dinkelbach_steps,
-            bisection_steps,
-            certificates,
-            loosened,
-            tol_achieved,
-            mu_enumerated,
-            patterns_enumerated,
-            socps,
-            retries,
-            uncertain,
-            seconds,
-        } = *info;
-        CriticalInfoJson {
-            method,
-            nodes_visited,
-            pruned_infeasible,
-            leaves_solved,
-            bound_tightenings,
-            mirrored,
-            simplex_solves,
-            simplex_fallbacks,
-            dinkelbach_steps,
-            bisection_steps,
-            certificates,
-            loosened,
-            tol_achieved: bracketed.then_some(tol_achieved),
-            mu_enumerated,
-            patterns_enumerated,
-            socps,
-            retries,
-            uncertain,
-            seconds,
-            peak_rss_bytes: crate::report::json::peak_rss_bytes(),
-        }
-    }
 }
 
 fn pattern_names(pattern: &[wedged::ContactPattern]) -> Vec<&'static str> {
@@ -663,6 +588,14 @@ fn info_lines(out: &mut String, problem: &Problem, result: &Critical) {
                 plural(info.bound_tightenings as usize, "node", "nodes")
             ));
         }
+        if info.dive_nodes > 0 {
+            search.push(format!(
+                "a first leaf looked for by a dive of {}, the first leaf improved in {} of \
+                 local search over contact sets",
+                plural(info.dive_nodes as usize, "node", "nodes"),
+                plural(info.improvement_steps as usize, "step", "steps")
+            ));
+        }
         if info.simplex_solves + info.simplex_fallbacks > 0 {
             search.push(format!(
                 "{} by the warm-started simplex method, {} left to Clarabel",
@@ -737,6 +670,7 @@ fn info_lines(out: &mut String, problem: &Problem, result: &Critical) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use wedged::CriticalInfo;
 
     #[test]
     fn bounds_round_outwards_to_the_digits_asked() {

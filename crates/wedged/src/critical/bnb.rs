@@ -38,9 +38,10 @@
 //! inside a polygon's cone): an infeasible one prunes, a feasible one steers the branching,
 //! and a leaf is decided by its cone program (Clarabel).
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
+use super::improve::improve;
 use super::{CriticalInfo, CriticalProgress, Ctx, Found, Leaf};
 use crate::conic::cuts::Drive;
 use crate::conic::node_lp::{self as lp, LpCounters, Shape, Warm};
@@ -102,6 +103,22 @@ struct Search<'a, 'b, 'c> {
     mirrors: Vec<Vec<usize>>,
     /// Branchings that separated a mirror image too.
     mirrored: AtomicU64,
+    /// Whether the present pass is the first leaf's dive ([`DIVE_NODES_PER_NODE`]): the
+    /// separated child first, the pass ended at its first leaf or after its budget.
+    dive: AtomicBool,
+    /// The node count at which the dive gives up.
+    dive_budget: AtomicU64,
+    /// Set to end the present pass at once (a dive that found its leaf or spent its budget):
+    /// the pass proves nothing, and the next one starts over.
+    end_pass: AtomicBool,
+    /// Whether the run's first leaf was improved already ([`improve`]).
+    improved: AtomicBool,
+    /// Nodes visited by the dive, and the improvement's steps.
+    dive_nodes: AtomicU64,
+    improvement_steps: AtomicU64,
+    /// Whether the run looks for a first leaf by a dive and improves it (not certified, not
+    /// in shards: their passes must split the tree alike).
+    heuristic: bool,
 }
 
 impl Search<'_, '_, '_> {
@@ -131,6 +148,21 @@ impl Search<'_, '_, '_> {
             2 => TIGHTEN_DEPTH.max(m / TIGHTEN_PER_DEPTH),
             _ => crate::conic::cuts::tighten_depth_3d(m),
         }
+    }
+
+    /// Offers a leaf found by the search; the run's first one is improved first
+    /// ([`improve`]), and a dive ends at it.
+    fn found(&self, leaf: Leaf) {
+        if self.dive.load(Ordering::Relaxed) {
+            self.end_pass.store(true, Ordering::Relaxed);
+        }
+        if self.heuristic && !self.improved.swap(true, Ordering::Relaxed) {
+            let (better, steps) = improve(self.ctx, &self.lp, self.control, leaf.clone());
+            self.improvement_steps
+                .store(steps as u64, Ordering::Relaxed);
+            self.offer(better);
+        }
+        self.offer(leaf);
     }
 
     fn offer(&self, leaf: Leaf) {
@@ -197,7 +229,13 @@ impl shard::Tree for Search<'_, '_, '_> {
     /// Decides the node (a leaf: its threshold, offered as the incumbent; not in a rehearsal,
     /// which leaves leaves alone); returns its children unless it is pruned or a leaf.
     fn visit(&self, node: Node, depth: usize, rehearsal: bool) -> Option<(Node, Node)> {
-        if self.control.must_stop(0) {
+        if self.control.must_stop(0) || self.end_pass.load(Ordering::Relaxed) {
+            return None;
+        }
+        if self.dive.load(Ordering::Relaxed)
+            && self.visited.load(Ordering::Relaxed) >= self.dive_budget.load(Ordering::Relaxed)
+        {
+            self.end_pass.store(true, Ordering::Relaxed);
             return None;
         }
         let Node {
@@ -315,7 +353,7 @@ impl shard::Tree for Search<'_, '_, '_> {
                     Some((theta, p)) => {
                         let cap = || self.level();
                         match self.ctx.leaf_threshold(&set, theta, p, self.control, &cap) {
-                            Ok(Some(leaf)) => self.offer(leaf),
+                            Ok(Some(leaf)) => self.found(leaf),
                             Ok(None) => {
                                 self.pruned.fetch_add(1, Ordering::Relaxed);
                             }
@@ -393,20 +431,26 @@ impl Search<'_, '_, '_> {
         if !images.is_empty() {
             self.mirrored.fetch_add(1, Ordering::Relaxed);
         }
-        (
-            Node {
-                classes: to_contact,
-                drive: drive.clone(),
-                warm: warm.clone(),
-            },
-            Node {
-                classes: to_separated,
-                drive,
-                warm,
-            },
-        )
+        let contact = Node {
+            classes: to_contact,
+            drive: drive.clone(),
+            warm: warm.clone(),
+        };
+        let separated = Node {
+            classes: to_separated,
+            drive,
+            warm,
+        };
+        if self.dive.load(Ordering::Relaxed) {
+            (separated, contact)
+        } else {
+            (contact, separated)
+        }
     }
 }
+
+/// The first leaf's dive (see [`run`]) gives up after this many nodes per contact node.
+const DIVE_NODES_PER_NODE: u64 = 10;
 
 /// The ratio of successive bars ([`bars`]).
 const BAR_RATIO: f64 = 1.25;
@@ -459,6 +503,13 @@ pub(super) fn run(
             Vec::new()
         },
         mirrored: AtomicU64::new(0),
+        dive: AtomicBool::new(false),
+        dive_budget: AtomicU64::new(u64::MAX),
+        end_pass: AtomicBool::new(false),
+        improved: AtomicBool::new(false),
+        dive_nodes: AtomicU64::new(0),
+        improvement_steps: AtomicU64::new(0),
+        heuristic: ctx.form.refutations.is_none() && shard.is_none(),
     };
     let explored = Explored::new();
     // The nodes visited before the present pass.
@@ -481,6 +532,21 @@ pub(super) fn run(
     let split = crate::run::with_progress(
         || {
             let mut split = None;
+            if search.heuristic && !control.must_stop(0) {
+                // The dive: the first bar's tree, the separated child first, ended at its
+                // first leaf (improved by `found`) or after its budget. It proves nothing; the
+                // passes below start over with its leaf as the incumbent.
+                search.dive.store(true, Ordering::Relaxed);
+                let budget = DIVE_NODES_PER_NODE * ctx.form.m as u64;
+                search.dive_budget.store(budget, Ordering::Relaxed);
+                search.bar.store(ctx.form.mu.to_bits(), Ordering::Relaxed);
+                explored.reset();
+                Walk::new(&search, &explored).run(None);
+                search.dive.store(false, Ordering::Relaxed);
+                search.end_pass.store(false, Ordering::Relaxed);
+                let dived = search.visited.load(Ordering::Relaxed);
+                search.dive_nodes.store(dived, Ordering::Relaxed);
+            }
             for bar in bars(ctx.form.mu) {
                 search.bar.store(bar.to_bits(), Ordering::Relaxed);
                 before.store(search.visited.load(Ordering::Relaxed), Ordering::Relaxed);
@@ -500,6 +566,8 @@ pub(super) fn run(
     info.leaves_solved = search.leaves.into_inner();
     info.bound_tightenings = search.tightened.into_inner();
     info.mirrored = search.mirrored.into_inner();
+    info.dive_nodes = search.dive_nodes.into_inner();
+    info.improvement_steps = search.improvement_steps.into_inner();
     info.simplex_solves = search.lp.solves.into_inner();
     info.simplex_fallbacks = search.lp.fallbacks.into_inner();
     let best = search.best.into_inner().unwrap_or(None);

@@ -49,6 +49,7 @@ mod bnb;
 pub mod certify;
 mod enumerate;
 mod faces;
+mod improve;
 mod newton;
 mod polish;
 mod shards;
@@ -226,6 +227,12 @@ pub struct CriticalInfo {
     /// Branchings whose separated child separated the branch node's mirror images too (bnb
     /// without `certify`, on a problem with [`crate::Problem::symmetries`]).
     pub mirrored: u64,
+    /// Nodes visited by the dive for a first leaf (bnb without `certify`, not in shards; see
+    /// `critical/bnb.rs`).
+    pub dive_nodes: u64,
+    /// Steps of the local search that improved the run's first leaf (see
+    /// `critical/improve.rs`).
+    pub improvement_steps: u64,
     /// Linear programs of a search with drive cuts decided by the in-house simplex method,
     /// warm-started (2D bnb without `certify`; see `simplex.rs`).
     pub simplex_solves: u64,

@@ -106,6 +106,8 @@ fn add_info(sum: &mut CriticalInfo, part: &CriticalInfo) {
         leaves_solved,
         bound_tightenings,
         mirrored,
+        dive_nodes,
+        improvement_steps,
         simplex_solves,
         simplex_fallbacks,
         dinkelbach_steps,
@@ -125,6 +127,8 @@ fn add_info(sum: &mut CriticalInfo, part: &CriticalInfo) {
     sum.leaves_solved += leaves_solved;
     sum.bound_tightenings += bound_tightenings;
     sum.mirrored += mirrored;
+    sum.dive_nodes += dive_nodes;
+    sum.improvement_steps += improvement_steps;
     sum.simplex_solves += simplex_solves;
     sum.simplex_fallbacks += simplex_fallbacks;
     sum.dinkelbach_steps += dinkelbach_steps;

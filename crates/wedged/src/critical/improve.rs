@@ -1,0 +1,299 @@
+//! A leaf improved by local search over contact sets: the primal heuristic of `critical`'s
+//! `bnb`.
+//!
+//! The search tests its nodes at `min(bar, incumbent (1 - tol))`, so the level it works at is
+//! the incumbent's threshold, and a search that starts far above `mu*` pays for the crawl down:
+//! on the 3D V-groove plug with m = 40 (`mu*` = 1.4835) a search whose first bar is 2.0 visits
+//! 150k nodes, one whose first bar is `mu*` + 1e-4 visits 4k (`BENCHMARKS.md`). So the run's
+//! first leaf is improved here before the search goes on with it as its incumbent.
+//!
+//! **One step**: the contact sets that differ from the current leaf's in one node are each
+//! tested at a level just below the leaf's threshold `theta` by the search's linear program of
+//! the leaf (contact on the set, separated elsewhere, `sum r_n = 1`), in parallel, started from
+//! the current leaf's basis. The first of them in node order that is feasible there and whose
+//! own threshold is below `theta` becomes the current leaf. In 2D that linear program is the
+//! leaf's exact program, and the threshold is found by bisection on it (warm-started, a few
+//! pivots a probe); the leaf reached is made exact at the end ([`Ctx::leaf_threshold`]). In 3D
+//! the linear program is an outer relaxation: a neighbour it does not refute is confirmed by
+//! its cone program and its threshold computed exactly. The search stops at a leaf that no
+//! such neighbour improves, after [`MAX_STEPS_PER_NODE`] `m` steps, or when the run is
+//! stopped. The order is fixed, so the result does not depend on the threads.
+//!
+//! The leaf returned is an exact solution of its contact set with its threshold, as every leaf
+//! of the search is: it only sets the level; the proof that nothing lies below it is the
+//! search's.
+
+use rayon::prelude::*;
+
+use super::{Ctx, Leaf};
+use crate::conic::node_lp::{self as lp, LpCounters, Shape, Warm};
+use crate::conic::program::{leaf_classes, Decision, Goal, Norm};
+use crate::run::Control;
+
+/// A neighbour must be feasible this far below the current threshold (relative) to be tried.
+const BELOW: f64 = 1e-4;
+
+/// At most this many steps per contact node.
+const MAX_STEPS_PER_NODE: usize = 4;
+
+/// The relative width to which a 2D neighbour's threshold is bisected.
+const BISECTED: f64 = 1e-6;
+
+/// The leaf reached from `leaf` by single-node changes of its contact set, each lowering the
+/// threshold (see the module docs), and the number of steps taken (`leaf` itself and 0 when
+/// none).
+pub(super) fn improve(
+    ctx: &Ctx,
+    counters: &LpCounters,
+    control: &Control,
+    leaf: Leaf,
+) -> (Leaf, usize) {
+    let form = ctx.form;
+    let m = form.m;
+    let mut current = leaf.clone();
+    let mut steps = 0;
+    while steps < MAX_STEPS_PER_NODE * m && !control.must_stop(0) {
+        let theta = current.theta;
+        let level = theta * (1.0 - BELOW);
+        let shape = Shape {
+            mu: level,
+            drive: None,
+        };
+        let neighbour = |j: usize| {
+            let mut contact = current.contact.clone();
+            contact[j] = !contact[j];
+            contact
+        };
+        // The current leaf's own program at `level` (infeasible there) starts its neighbours'.
+        let classes = leaf_classes(&current.contact);
+        let (_, warm) = lp::decide(form, counters, &classes, shape, Norm::Sum, None, None);
+        // The neighbours the linear program does not refute at `level`, in node order (an
+        // empty point when the simplex method was unsure).
+        let open: Vec<(usize, Vec<f64>)> = (0..m)
+            .into_par_iter()
+            .filter_map(|j| {
+                let contact = neighbour(j);
+                if !contact.contains(&true) {
+                    return None;
+                }
+                let classes = leaf_classes(&contact);
+                match lp::decide(
+                    form,
+                    counters,
+                    &classes,
+                    shape,
+                    Norm::Sum,
+                    None,
+                    warm.as_ref(),
+                )
+                .0
+                {
+                    Decision::No => None,
+                    Decision::Yes { r, .. } => Some((j, r)),
+                    Decision::Unsure(_) => Some((j, Vec::new())),
+                }
+            })
+            .collect();
+        let next = open.into_iter().find_map(|(j, r)| {
+            let contact = neighbour(j);
+            if form.dim == 2 && !r.is_empty() {
+                let (theta, r) = bisect(ctx, counters, &contact, level, r, warm.as_ref());
+                return Some(Leaf {
+                    contact,
+                    theta,
+                    r,
+                    lower: 0.0,
+                });
+            }
+            let classes = leaf_classes(&contact);
+            let r = match form.decide_at(&classes, level, Norm::Sum, Goal::Feasible) {
+                Decision::Yes { r, .. } => r,
+                _ => return None,
+            };
+            let (t, p) = ctx.exact_point(&contact, &r, level)?;
+            let cap = || level;
+            match ctx.leaf_threshold(&contact, t, p, control, &cap) {
+                Ok(Some(leaf)) if leaf.theta < theta => Some(leaf),
+                _ => None,
+            }
+        });
+        match next {
+            Some(next) => {
+                current = next;
+                steps += 1;
+            }
+            None => break,
+        }
+    }
+    if form.dim == 2 && steps > 0 {
+        // The bisected threshold made exact, as the search's leaves are.
+        let none = || f64::INFINITY;
+        let exact = ctx
+            .exact_point(&current.contact, &current.r, current.theta)
+            .and_then(|(t, p)| {
+                ctx.leaf_threshold(&current.contact, t, p, control, &none)
+                    .ok()
+                    .flatten()
+            });
+        return match exact {
+            Some(exact) => (exact, steps),
+            None => (leaf, 0),
+        };
+    }
+    (current, steps)
+}
+
+/// A 2D leaf's threshold by bisection on its linear program between 0 and `level` (where it
+/// has the solution `r`), to [`BISECTED`]: the upper end and its solution.
+fn bisect(
+    ctx: &Ctx,
+    counters: &LpCounters,
+    contact: &[bool],
+    level: f64,
+    r: Vec<f64>,
+    warm: Option<&Warm>,
+) -> (f64, Vec<f64>) {
+    let classes = leaf_classes(contact);
+    let (mut lo, mut hi, mut r) = (0.0, level, r);
+    let mut warm = warm.cloned();
+    while hi - lo > BISECTED * hi {
+        let mid = 0.5 * (lo + hi);
+        let shape = Shape {
+            mu: mid,
+            drive: None,
+        };
+        let (decision, next) = lp::decide(
+            ctx.form,
+            counters,
+            &classes,
+            shape,
+            Norm::Sum,
+            None,
+            warm.as_ref(),
+        );
+        warm = next.or(warm);
+        match decision {
+            Decision::Yes { r: at, .. } => (hi, r) = (mid, at),
+            Decision::No => lo = mid,
+            Decision::Unsure(_) => break,
+        }
+    }
+    (hi, r)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::atomic::AtomicBool;
+
+    use super::*;
+    use crate::conic::program::Formulation;
+    use crate::critical::Tally;
+    use crate::examples::random_spd_problem_dim;
+    use crate::run::Limits;
+
+    /// The least `mu` at which the leaf of `contact` has a solution, by bisection on its cone
+    /// program (neither the simplex method nor Dinkelbach's steps); `None` when it has none at
+    /// `cap`.
+    fn threshold(form: &Formulation, contact: &[bool], cap: f64) -> Option<f64> {
+        let classes = leaf_classes(contact);
+        let feasible = |mu: f64| {
+            matches!(
+                form.decide_at(&classes, mu, Norm::Sum, Goal::Feasible),
+                Decision::Yes { .. }
+            )
+        };
+        if !feasible(cap) {
+            return None;
+        }
+        let (mut lo, mut hi) = (0.0, cap);
+        for _ in 0..40 {
+            let mid = 0.5 * (lo + hi);
+            if feasible(mid) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        Some(hi)
+    }
+
+    fn set(mask: usize, m: usize) -> Vec<bool> {
+        (0..m).map(|i| mask >> i & 1 == 1).collect()
+    }
+
+    /// From the worst leaf of small random problems (2D and 3D), the improvement lowers the
+    /// threshold, never below the brute force's `mu*`, to the leaf's own threshold (checked by
+    /// bisection), and stops where no single-node change lowers it.
+    #[test]
+    fn improvement_reaches_a_local_minimum_above_mu_star() {
+        const CAP: f64 = 50.0;
+        let cancel = AtomicBool::new(false);
+        let control = Control::new(Limits::default(), &cancel);
+        let mut improved = 0;
+        for case in 0..20u64 {
+            let dim = 2 + (case % 2) as usize;
+            let m = 3 + (case % 4) as usize;
+            let problem = random_spd_problem_dim(dim, m, 1.0, 300 + case);
+            let form = Formulation::new(&problem);
+            let ctx = Ctx {
+                form: &form,
+                tol: 1e-9,
+                tally: Tally::default(),
+            };
+            let thresholds: Vec<Option<f64>> = (0..1usize << m)
+                .map(|mask| {
+                    (mask > 0)
+                        .then(|| threshold(&form, &set(mask, m), CAP))
+                        .flatten()
+                })
+                .collect();
+            let Some((worst, &Some(t))) = thresholds
+                .iter()
+                .enumerate()
+                .filter(|(_, t)| t.is_some_and(|t| t < CAP / 2.0))
+                .max_by(|a, b| a.1.unwrap().total_cmp(&b.1.unwrap()))
+            else {
+                continue;
+            };
+            let mu_star = thresholds
+                .iter()
+                .flatten()
+                .fold(f64::INFINITY, |a, &b| a.min(b));
+            let contact = set(worst, m);
+            let classes = leaf_classes(&contact);
+            let hi = t * (1.0 + 1e-3);
+            let Decision::Yes { r, .. } = form.decide_at(&classes, hi, Norm::Sum, Goal::Feasible)
+            else {
+                panic!("case {case}: the worst leaf is feasible above its threshold");
+            };
+            let (theta, p) = ctx.exact_point(&contact, &r, hi).expect("an exact point");
+            let start = ctx
+                .leaf_threshold(&contact, theta, p, &control, &|| f64::INFINITY)
+                .unwrap()
+                .expect("the worst leaf's threshold");
+            let (leaf, steps) = improve(&ctx, &LpCounters::default(), &control, start.clone());
+            let what = format!("case {case} (dim {dim}, m {m}, {steps} steps)");
+            assert!(leaf.theta <= start.theta * (1.0 + 1e-9), "{what}");
+            assert!(leaf.theta >= mu_star * (1.0 - 1e-6), "{what}: below mu*");
+            let mask: usize = (0..m).filter(|&i| leaf.contact[i]).map(|i| 1 << i).sum();
+            let own = thresholds[mask].expect("the leaf reached has a threshold");
+            assert!(
+                (own - leaf.theta).abs() <= 1e-6 * own,
+                "{what}: {own} against {}",
+                leaf.theta
+            );
+            for j in 0..m {
+                if let Some(t) = thresholds[mask ^ (1 << j)] {
+                    assert!(
+                        t >= leaf.theta * (1.0 - 1e-3),
+                        "{what}: node {j} lowers it to {t}"
+                    );
+                }
+            }
+            if steps > 0 {
+                improved += 1;
+            }
+        }
+        assert!(improved >= 8, "only {improved} of 20 improved");
+    }
+}
