@@ -55,18 +55,13 @@ pub(super) fn improve(
     while steps < MAX_STEPS_PER_NODE * m && !control.must_stop(0) {
         let theta = current.theta;
         let level = theta * (1.0 - BELOW);
-        let shape = Shape {
-            mu: level,
-            drive: None,
-        };
         let neighbour = |j: usize| {
             let mut contact = current.contact.clone();
             contact[j] = !contact[j];
             contact
         };
         // The current leaf's own program at `level` (infeasible there) starts its neighbours'.
-        let classes = leaf_classes(&current.contact);
-        let (_, warm) = lp::decide(form, counters, &classes, shape, Norm::Sum, None, None);
+        let (_, warm) = leaf_program(ctx, counters, &current.contact, level, None);
         // The neighbours the linear program does not refute at `level`, in node order (an
         // empty point when the simplex method was unsure).
         let open: Vec<(usize, Vec<f64>)> = (0..m)
@@ -76,18 +71,7 @@ pub(super) fn improve(
                 if !contact.contains(&true) {
                     return None;
                 }
-                let classes = leaf_classes(&contact);
-                match lp::decide(
-                    form,
-                    counters,
-                    &classes,
-                    shape,
-                    Norm::Sum,
-                    None,
-                    warm.as_ref(),
-                )
-                .0
-                {
+                match leaf_program(ctx, counters, &contact, level, warm.as_ref()).0 {
                     Decision::No => None,
                     Decision::Yes { r, .. } => Some((j, r)),
                     Decision::Unsure(_) => Some((j, Vec::new())),
@@ -143,6 +127,20 @@ pub(super) fn improve(
     (current, steps)
 }
 
+/// The search's linear program of the leaf of `contact` at `mu` (`sum r_n = 1`, no cuts), from
+/// `warm`: its decision and final basis.
+fn leaf_program(
+    ctx: &Ctx,
+    counters: &LpCounters,
+    contact: &[bool],
+    mu: f64,
+    warm: Option<&Warm>,
+) -> (Decision, Option<Warm>) {
+    let shape = Shape { mu, drive: None };
+    let classes = leaf_classes(contact);
+    lp::decide(ctx.form, counters, &classes, shape, Norm::Sum, None, warm)
+}
+
 /// A 2D leaf's threshold by bisection on its linear program between 0 and `level` (where it
 /// has the solution `r`), to [`BISECTED`]: the upper end and its solution.
 fn bisect(
@@ -153,24 +151,11 @@ fn bisect(
     r: Vec<f64>,
     warm: Option<&Warm>,
 ) -> (f64, Vec<f64>) {
-    let classes = leaf_classes(contact);
     let (mut lo, mut hi, mut r) = (0.0, level, r);
     let mut warm = warm.cloned();
     while hi - lo > BISECTED * hi {
         let mid = 0.5 * (lo + hi);
-        let shape = Shape {
-            mu: mid,
-            drive: None,
-        };
-        let (decision, next) = lp::decide(
-            ctx.form,
-            counters,
-            &classes,
-            shape,
-            Norm::Sum,
-            None,
-            warm.as_ref(),
-        );
+        let (decision, next) = leaf_program(ctx, counters, contact, mid, warm.as_ref());
         warm = next.or(warm);
         match decision {
             Decision::Yes { r: at, .. } => (hi, r) = (mid, at),
