@@ -106,15 +106,12 @@ struct Search<'a, 'b, 'c> {
     /// Whether the present pass is the first leaf's dive ([`DIVE_NODES_PER_NODE`]): the
     /// separated child first, the pass ended at its first leaf or after its budget.
     dive: AtomicBool,
-    /// The node count at which the dive gives up.
-    dive_budget: AtomicU64,
     /// Set to end the present pass at once (a dive that found its leaf or spent its budget):
     /// the pass proves nothing, and the next one starts over.
     end_pass: AtomicBool,
     /// Whether the run's first leaf was improved already ([`improve`]).
     improved: AtomicBool,
-    /// Nodes visited by the dive, and the improvement's steps.
-    dive_nodes: AtomicU64,
+    /// The improvement's steps.
     improvement_steps: AtomicU64,
     /// Whether the run looks for a first leaf by a dive and improves it (not certified, not
     /// in shards: their passes must split the tree alike).
@@ -233,7 +230,7 @@ impl shard::Tree for Search<'_, '_, '_> {
             return None;
         }
         if self.dive.load(Ordering::Relaxed)
-            && self.visited.load(Ordering::Relaxed) >= self.dive_budget.load(Ordering::Relaxed)
+            && self.visited.load(Ordering::Relaxed) >= DIVE_NODES_PER_NODE * self.form().m as u64
         {
             self.end_pass.store(true, Ordering::Relaxed);
             return None;
@@ -504,10 +501,8 @@ pub(super) fn run(
         },
         mirrored: AtomicU64::new(0),
         dive: AtomicBool::new(false),
-        dive_budget: AtomicU64::new(u64::MAX),
         end_pass: AtomicBool::new(false),
         improved: AtomicBool::new(false),
-        dive_nodes: AtomicU64::new(0),
         improvement_steps: AtomicU64::new(0),
         heuristic: ctx.form.refutations.is_none() && shard.is_none(),
     };
@@ -529,23 +524,21 @@ pub(super) fn run(
     };
     // A pass per bar; each shard's passes split their trees alike (see `crate::shard`: the
     // top is decided at the bar, before any leaf).
-    let split = crate::run::with_progress(
+    let (split, dive_nodes) = crate::run::with_progress(
         || {
             let mut split = None;
+            let mut dived = 0;
             if search.heuristic && !control.must_stop(0) {
                 // The dive: the first bar's tree, the separated child first, ended at its
                 // first leaf (improved by `found`) or after its budget. It proves nothing; the
                 // passes below start over with its leaf as the incumbent.
                 search.dive.store(true, Ordering::Relaxed);
-                let budget = DIVE_NODES_PER_NODE * ctx.form.m as u64;
-                search.dive_budget.store(budget, Ordering::Relaxed);
                 search.bar.store(ctx.form.mu.to_bits(), Ordering::Relaxed);
                 explored.reset();
                 Walk::new(&search, &explored).run(None);
                 search.dive.store(false, Ordering::Relaxed);
                 search.end_pass.store(false, Ordering::Relaxed);
-                let dived = search.visited.load(Ordering::Relaxed);
-                search.dive_nodes.store(dived, Ordering::Relaxed);
+                dived = search.visited.load(Ordering::Relaxed);
             }
             for bar in bars(ctx.form.mu) {
                 search.bar.store(bar.to_bits(), Ordering::Relaxed);
@@ -557,7 +550,7 @@ pub(super) fn run(
                     break;
                 }
             }
-            split
+            (split, dived)
         },
         report,
     );
@@ -566,7 +559,7 @@ pub(super) fn run(
     info.leaves_solved = search.leaves.into_inner();
     info.bound_tightenings = search.tightened.into_inner();
     info.mirrored = search.mirrored.into_inner();
-    info.dive_nodes = search.dive_nodes.into_inner();
+    info.dive_nodes = dive_nodes;
     info.improvement_steps = search.improvement_steps.into_inner();
     info.simplex_solves = search.lp.solves.into_inner();
     info.simplex_fallbacks = search.lp.fallbacks.into_inner();
