@@ -178,8 +178,9 @@ fn leaf_program(
     lp::decide(ctx.form, counters, &classes, shape, Norm::Sum, None, warm)
 }
 
-/// A 2D leaf's threshold by bisection on its linear program between 0 and `level` (where it
-/// has the solution `r`), to [`BISECTED`]: the upper end and its solution.
+/// A 2D leaf's threshold by bisection on its linear program between `floor` (a level where no
+/// neighbour was feasible, or 0) and `level` (where it has the solution `r`), to [`BISECTED`]:
+/// the upper end and its solution.
 fn bisect(
     ctx: &Ctx,
     counters: &LpCounters,
