@@ -28,7 +28,8 @@
 //! inverse every [`REFRESH`] pivots and before every verdict; a pivot element that the pivot
 //! row and the pivot column disagree on refactors the inverse. Dot products run on eight
 //! partial sums, which the compiler vectorises (on the 2D plug with m = 60 that alone halved
-//! the search's time).
+//! the search's time), and the dense kernels run as compiled for AVX2 where the processor has
+//! it (`dense`).
 //!
 //! **Checked answers.** As in [`crate::socp`], nothing is returned unchecked:
 //! - `Optimal`: the row activities are recomputed as `A x` and every bound must hold within
@@ -60,7 +61,7 @@ mod pool;
 use std::sync::Arc;
 
 use check::{check_certificate, check_point};
-use dense::{dot, invert, times};
+use dense::{axpy, dot, eliminate, invert, times};
 
 /// Feasibility and optimality tolerance, relative to the terms of each quantity.
 const TOL: f64 = 1e-9;
@@ -159,9 +160,7 @@ impl Lp {
         let mut out = vec![0.0; self.total()];
         for (k, &vk) in v.iter().enumerate() {
             if vk != 0.0 {
-                for (o, a) in out[..n].iter_mut().zip(self.row(k)) {
-                    *o += vk * a;
-                }
+                axpy(&mut out[..n], vk, self.row(k));
                 out[n + k] = -vk;
             }
         }
@@ -452,9 +451,7 @@ impl<'a> Run<'a> {
         for (k, &j) in self.basis.head.iter().enumerate() {
             let c = self.cost[j];
             if c != 0.0 {
-                for (o, a) in y.iter_mut().zip(&inv[k * r..(k + 1) * r]) {
-                    *o += c * a;
-                }
+                axpy(&mut y, c, &inv[k * r..(k + 1) * r]);
             }
         }
         let ya = self.lp.row_times(&y);
@@ -498,18 +495,7 @@ impl<'a> Run<'a> {
         let r = self.lp.rows;
         let out = self.basis.head[p];
         let inv = self.basis.inv.as_mut().expect("inverted before the run");
-        let f = 1.0 / alpha[p];
-        for a in &mut inv[p * r..(p + 1) * r] {
-            *a *= f;
-        }
-        let prow: Vec<f64> = inv[p * r..(p + 1) * r].to_vec();
-        for (k, &ak) in alpha.iter().enumerate() {
-            if k != p && ak != 0.0 {
-                for (a, b) in inv[k * r..(k + 1) * r].iter_mut().zip(&prow) {
-                    *a -= ak * b;
-                }
-            }
-        }
+        eliminate(inv, r, p, alpha);
         self.basis.head[p] = q;
         self.basis.at[q] = At::Basic;
         self.basis.at[out] = leave_at;

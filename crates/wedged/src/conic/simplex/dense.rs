@@ -1,7 +1,38 @@
 //! The dense linear algebra of the simplex method: the basis inverse (Gauss-Jordan), products
 //! with it, and dot products on eight partial sums.
+//!
+//! The kernels that the simplex method spends its time in (a pivot's update of the inverse,
+//! `v^T A`, products with the inverse, dot products) are compiled for AVX2 as well, and that
+//! version runs when the processor has it ([`kernel!`]): a default x86-64 build vectorises
+//! them two values wide, AVX2 four. (On the 2D plug, `critical`, whole process: m = 60 paired
+//! 0.92; see `BENCHMARKS.md`. AVX-512 was no faster there: 1.07 against AVX2.)
 
 use super::{pool, Lp};
+
+/// A kernel: `body` compiled twice, once for AVX2 (run when the processor has it) and once for
+/// the build's target. The kernels are elementwise products and sums in a fixed order, which
+/// vector width does not change, so both give the same bits.
+macro_rules! kernel {
+    ($(#[$doc:meta])* $vis:vis fn $name:ident($($arg:ident: $ty:ty),*) $(-> $ret:ty)? $body:block) => {
+        $(#[$doc])*
+        $vis fn $name($($arg: $ty),*) $(-> $ret)? {
+            #[inline(always)]
+            fn body($($arg: $ty),*) $(-> $ret)? $body
+            #[cfg(target_arch = "x86_64")]
+            {
+                #[target_feature(enable = "avx2")]
+                fn wide($($arg: $ty),*) $(-> $ret)? {
+                    body($($arg),*)
+                }
+                if std::arch::is_x86_feature_detected!("avx2") {
+                    // SAFETY: the processor runs AVX2 (checked just above).
+                    return unsafe { wide($($arg),*) };
+                }
+            }
+            body($($arg),*)
+        }
+    };
+}
 
 /// The inverse of the basis matrix of `head` (Gauss-Jordan with partial pivoting), `None` when
 /// it is singular.
@@ -38,9 +69,8 @@ pub(super) fn invert(lp: &Lp, head: &[usize]) -> Option<Vec<f64>> {
         for k in (0..r).filter(|&k| k != c) {
             let f = m[k * w + c];
             if f != 0.0 {
-                for (a, b) in m[k * w..(k + 1) * w].iter_mut().zip(&pivot_row) {
-                    *a -= f * b;
-                }
+                // `a - f b`, the same bits as `a + (-f) b`.
+                axpy(&mut m[k * w..(k + 1) * w], -f, &pivot_row);
             }
         }
     }
@@ -52,14 +82,51 @@ pub(super) fn invert(lp: &Lp, head: &[usize]) -> Option<Vec<f64>> {
     Some(inv)
 }
 
-/// The square row-major matrix `inv` times `v`.
-pub(super) fn times(inv: &[f64], v: &[f64]) -> Vec<f64> {
-    inv.chunks(v.len()).map(|row| dot(row, v)).collect()
+kernel! {
+    /// The square row-major matrix `inv` times `v`.
+    pub(super) fn times(inv: &[f64], v: &[f64]) -> Vec<f64> {
+        inv.chunks(v.len()).map(|row| dot8(row, v)).collect()
+    }
 }
 
-/// `a . b` with eight partial sums, which the compiler vectorises (a plain sum of products it
-/// may not reorder).
-pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
+kernel! {
+    /// `a . b` with eight partial sums, which the compiler vectorises (a plain sum of products
+    /// it may not reorder).
+    pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
+        dot8(a, b)
+    }
+}
+
+kernel! {
+    /// `y += f x`.
+    pub(super) fn axpy(y: &mut [f64], f: f64, x: &[f64]) {
+        for (a, b) in y.iter_mut().zip(x) {
+            *a += f * b;
+        }
+    }
+}
+
+kernel! {
+    /// The pivot's update of a square row-major inverse `inv` (`r` wide): row `p` divided by
+    /// `alpha_p`, then every other row `k` less `alpha_k` times it.
+    pub(super) fn eliminate(inv: &mut [f64], r: usize, p: usize, alpha: &[f64]) {
+        let f = 1.0 / alpha[p];
+        for a in &mut inv[p * r..(p + 1) * r] {
+            *a *= f;
+        }
+        let prow: Vec<f64> = inv[p * r..(p + 1) * r].to_vec();
+        for (k, &ak) in alpha.iter().enumerate() {
+            if k != p && ak != 0.0 {
+                for (a, b) in inv[k * r..(k + 1) * r].iter_mut().zip(&prow) {
+                    *a -= ak * b;
+                }
+            }
+        }
+    }
+}
+
+#[inline(always)]
+fn dot8(a: &[f64], b: &[f64]) -> f64 {
     let mut acc = [0.0f64; 8];
     let (a8, b8) = (a.chunks_exact(8), b.chunks_exact(8));
     let tail: f64 = a8
@@ -76,6 +143,7 @@ pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
     acc.iter().sum::<f64>() + tail
 }
 
+kernel! {
 /// `a . b` and the sum of its terms' sizes `sum |a_i b_i|`, on eight partial sums each (as
 /// [`dot`]).
 pub(super) fn dot_terms(a: &[f64], b: &[f64]) -> (f64, f64) {
@@ -97,4 +165,92 @@ pub(super) fn dot_terms(a: &[f64], b: &[f64]) -> (f64, f64) {
         acc.iter().sum::<f64>() + tail,
         size.iter().sum::<f64>() + tail_size,
     )
+}
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Values of many sizes and signs (a fixed linear congruential sequence).
+    fn values(len: usize, seed: u64) -> Vec<f64> {
+        let mut x = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (0..len)
+            .map(|_| {
+                x = x
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let unit = (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+                unit * 2f64.powi(((x >> 3) % 40) as i32 - 20)
+            })
+            .collect()
+    }
+
+    /// The kernels (the AVX2 version where the processor has it) give exactly the bits of the
+    /// same operations done one value at a time in the same order: eight partial sums for a
+    /// dot product, elementwise for the rest.
+    #[test]
+    fn kernels_give_the_bits_of_scalar_code() {
+        for len in [0, 1, 7, 8, 9, 31, 64, 301] {
+            let (a, b) = (values(len, 1 + len as u64), values(len, 1000 + len as u64));
+            let mut acc = [0.0f64; 8];
+            let mut size = [0.0f64; 8];
+            let whole = len / 8 * 8;
+            for i in 0..whole {
+                acc[i % 8] += a[i] * b[i];
+                size[i % 8] += (a[i] * b[i]).abs();
+            }
+            let mut tail = 0.0;
+            let mut tail_size = 0.0;
+            for i in whole..len {
+                tail += a[i] * b[i];
+                tail_size += (a[i] * b[i]).abs();
+            }
+            // `Iterator::sum` of floats starts from -0.0; the partial sums are added in order.
+            let reference = acc.iter().fold(-0.0, |s, x| s + x) + tail;
+            assert_eq!(dot(&a, &b).to_bits(), reference.to_bits(), "dot, {len}");
+            let (d, t) = dot_terms(&a, &b);
+            assert_eq!(d.to_bits(), reference.to_bits(), "dot_terms, {len}");
+            let size_ref = size.iter().fold(-0.0, |s, x| s + x) + tail_size;
+            assert_eq!(t.to_bits(), size_ref.to_bits(), "dot_terms size, {len}");
+
+            let mut y = a.clone();
+            axpy(&mut y, -0.375, &b);
+            for i in 0..len {
+                assert_eq!(y[i].to_bits(), (a[i] + -0.375 * b[i]).to_bits(), "axpy");
+            }
+        }
+        let r = 13;
+        let inv = values(r * r, 7);
+        let v = values(r, 8);
+        let product = times(&inv, &v);
+        for k in 0..r {
+            assert_eq!(
+                product[k].to_bits(),
+                dot(&inv[k * r..(k + 1) * r], &v).to_bits()
+            );
+        }
+        let alpha = values(r, 9);
+        let p = 4;
+        let mut updated = inv.clone();
+        eliminate(&mut updated, r, p, &alpha);
+        let f = 1.0 / alpha[p];
+        let prow: Vec<f64> = inv[p * r..(p + 1) * r].iter().map(|x| x * f).collect();
+        for k in 0..r {
+            for c in 0..r {
+                let expected = if k == p {
+                    prow[c]
+                } else {
+                    inv[k * r + c] - alpha[k] * prow[c]
+                };
+                assert_eq!(
+                    updated[k * r + c].to_bits(),
+                    expected.to_bits(),
+                    "eliminate"
+                );
+            }
+        }
+    }
 }
