@@ -137,12 +137,14 @@ pub(crate) fn largest_shrink(old: &[(f64, f64)], new: &[(f64, f64)]) -> f64 {
 /// objective over the reaction components (by Clarabel, [`clarabel_relaxation`], or by the
 /// simplex method, [`super::node_lp`]). `None` when the relaxation is infeasible (certified by
 /// the solver: the subtree has no solution at `mu` or below). A bound the solver cannot
-/// decide stays as it was.
+/// decide stays as it was, and so do the bounds not yet tightened once `stop()` (the run's
+/// limit or Ctrl-C: at m = 200 one node's programs take seconds).
 pub(crate) fn tighten(
     form: &Formulation,
     classes: &[Class],
     drive: Option<&Drive>,
     minimise: &(dyn Fn(&[f64]) -> Decision + Sync),
+    stop: &(dyn Fn() -> bool + Sync),
 ) -> Option<Drive> {
     let m = form.m;
     let mut out = drive
@@ -157,6 +159,10 @@ pub(crate) fn tighten(
     let found: Option<Vec<NewBounds>> = free
         .par_iter()
         .map(|&j| {
+            if stop() {
+                // The run is stopping: this node's bounds stay as they were (valid, looser).
+                return Some((j, None, None));
+            }
             let w = drive_row(form, j);
             let extreme = |sign: f64| -> Option<Option<f64>> {
                 let objective: Vec<f64> = w.iter().map(|x| sign * x).collect();
@@ -252,10 +258,10 @@ mod tests {
                             drive: arc.as_ref(),
                         };
                         let minimise = lp::relaxation(&form, &counters, &classes, shape, None);
-                        tighten(&form, &classes, d, &minimise)
+                        tighten(&form, &classes, d, &minimise, &|| false)
                     } else {
                         let minimise = clarabel_relaxation(&form, &classes, mu, d);
-                        tighten(&form, &classes, d, &minimise)
+                        tighten(&form, &classes, d, &minimise, &|| false)
                     }
                 };
                 let again = twice(None).and_then(|d| twice(Some(&d)));
@@ -287,6 +293,58 @@ mod tests {
         );
     }
 
+    /// Once `stop()` holds, [`tighten`] solves no more programs and the bounds not yet
+    /// tightened stay as they were: with a stop from the start, none is solved and the bounds
+    /// come back unchanged; with a stop after a few programs, each bound is either the one it
+    /// had or the one a whole tightening gives.
+    #[test]
+    fn a_stop_leaves_the_bounds_as_they_were() {
+        use std::sync::atomic::AtomicUsize;
+        let mut partial_seen = 0;
+        for seed in 0..6u64 {
+            let m = 4 + (seed % 3) as usize;
+            let problem = random_spd_problem(m, 2.5, 9100 + seed);
+            let form = Formulation::new(&problem);
+            let classes = vec![Class::Free; m];
+            let counters = LpCounters::default();
+            let shape = Shape {
+                mu: problem.mu(),
+                drive: None,
+            };
+            let solved = AtomicUsize::new(0);
+            let minimise = lp::relaxation(&form, &counters, &classes, shape, None);
+            let counted = |objective: &[f64]| {
+                solved.fetch_add(1, Ordering::Relaxed);
+                minimise(objective)
+            };
+            let Some(whole) = tighten(&form, &classes, None, &counted, &|| false) else {
+                continue;
+            };
+            let unbounded = vec![(f64::NEG_INFINITY, f64::INFINITY); m];
+            solved.store(0, Ordering::Relaxed);
+            let none = tighten(&form, &classes, None, &counted, &|| true).expect("not refuted");
+            assert_eq!(solved.load(Ordering::Relaxed), 0, "seed {seed}");
+            assert_eq!(none, unbounded, "seed {seed}");
+            let kept = tighten(&form, &classes, Some(&whole), &counted, &|| true).unwrap();
+            assert_eq!(kept, whole, "seed {seed}");
+            solved.store(0, Ordering::Relaxed);
+            let few = || solved.load(Ordering::Relaxed) >= 3;
+            let partial = tighten(&form, &classes, None, &counted, &few).expect("not refuted");
+            for j in 0..m {
+                let (lo, hi) = partial[j];
+                assert!(
+                    lo == f64::NEG_INFINITY || lo == whole[j].0,
+                    "seed {seed}: {lo}"
+                );
+                assert!(hi == f64::INFINITY || hi == whole[j].1, "seed {seed}: {hi}");
+            }
+            if partial != whole && partial != unbounded {
+                partial_seen += 1;
+            }
+        }
+        assert!(partial_seen >= 3, "only {partial_seen} partial tightenings");
+    }
+
     /// A settled root ([`lp::tighten_node`] with `settle`) bounds every extreme ray's drive
     /// (so, the cone being their combinations, every solution's) and is at least as tight as
     /// one round; on some problems it is tighter.
@@ -304,8 +362,9 @@ mod tests {
                 mu: problem.mu(),
                 drive: None,
             };
-            let once = lp::tighten_node(&form, &counters, &classes, shape, None, false);
-            let settled = lp::tighten_node(&form, &counters, &classes, shape, None, true);
+            let never = || false;
+            let once = lp::tighten_node(&form, &counters, &classes, shape, None, false, &never);
+            let settled = lp::tighten_node(&form, &counters, &classes, shape, None, true, &never);
             let (Some((once, _)), Some((settled, _))) = (once, settled) else {
                 assert!(rays.is_empty(), "seed {seed}: a root with solutions pruned");
                 continue;

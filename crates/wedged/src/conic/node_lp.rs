@@ -470,7 +470,7 @@ pub(crate) fn relaxation<'a>(
 /// program started from the relaxation's own basis): the new drive bounds and that basis, or
 /// `None` when the relaxation is infeasible (the subtree holds no solution at `shape.mu` or
 /// below). The relaxation is solved first from `warm`, so that an infeasible node costs one
-/// program.
+/// program. Once `stop()`, the programs not yet solved are skipped (their bounds stay).
 ///
 /// With `settle`, the tightening is repeated with the cuts of the bounds it found until no
 /// bound interval shrinks by more than [`SETTLED`] of its width (at most [`SETTLE_ROUNDS`]
@@ -485,6 +485,7 @@ pub(crate) fn tighten_node(
     shape: Shape,
     warm: Option<&Warm>,
     settle: bool,
+    stop: &(dyn Fn() -> bool + Sync),
 ) -> Option<(Drive, Option<Warm>)> {
     let mut known: Option<Arc<Drive>> = shape.drive.cloned();
     let mut warm = warm.cloned();
@@ -508,14 +509,14 @@ pub(crate) fn tighten_node(
         }
         let start = basis.or(warm);
         let minimise = relaxation(form, counters, classes, round, start.clone());
-        let tight = cuts::tighten(form, classes, known.as_deref(), &minimise)?;
+        let tight = cuts::tighten(form, classes, known.as_deref(), &minimise, stop)?;
         drop(minimise);
         let shrink = known
             .as_deref()
             .map_or(1.0, |old| cuts::largest_shrink(old, &tight));
         known = Some(Arc::new(tight));
         warm = start;
-        if shrink <= SETTLED {
+        if shrink <= SETTLED || stop() {
             break;
         }
     }

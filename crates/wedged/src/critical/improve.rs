@@ -27,6 +27,11 @@
 //! The leaf returned is an exact solution of its contact set with its threshold, as every leaf
 //! of the search is: it only sets the level; the proof that nothing lies below it is the
 //! search's.
+//!
+//! **The first incumbent** ([`all_contact`]): before the dive, the all-contact set's leaf, which
+//! a few programs give. On large problems the search can go long without a leaf (the 2D plug
+//! at m = 200: none in ten minutes), and a run stopped then had nothing to report; now it
+//! reports at least that leaf's threshold as an upper end, with its checked witness.
 
 use rayon::prelude::*;
 
@@ -142,7 +147,7 @@ fn step(
     open.into_iter().find_map(|(j, r)| {
         let contact = neighbour(j);
         if form.dim == 2 && !r.is_empty() {
-            let (theta, r) = bisect(ctx, counters, &contact, floor, level, r, warm.as_ref());
+            let (_, theta, r) = bisect(ctx, counters, &contact, floor, level, r, warm.as_ref());
             return Some(Leaf {
                 contact,
                 theta,
@@ -164,6 +169,73 @@ fn step(
     })
 }
 
+/// How many levels above the bar, doubling, [`all_contact`] tries.
+const ALL_CONTACT_DOUBLINGS: i32 = 6;
+
+/// A first leaf before the search's: the all-contact set's (every gap closed), from the first
+/// of the levels `bar`, `2 bar`, ..., `64 bar` at which its linear program has a solution (in
+/// 2D bisected on that program down to the level below; in 3D confirmed by its cone program),
+/// with its exact threshold; `None` when it has none there. It costs a few programs and one
+/// threshold, and it is an incumbent (a witness, an upper end of the bracket) where the search
+/// may find none for long: on the 2D plug at m = 200 the dive's 2,000 nodes and then ten
+/// minutes of the first pass found no leaf, and the run ended with nothing to report. It is not improved by local search here (from the
+/// all-contact set that took 66 steps at m = 80 and stopped at a local minimum above the bar
+/// at m = 100, `BENCHMARKS.md`); the search's first leaf still is.
+pub(super) fn all_contact(
+    ctx: &Ctx,
+    counters: &LpCounters,
+    control: &Control,
+    bar: f64,
+) -> Option<Leaf> {
+    let form = ctx.form;
+    let contact = vec![true; form.m];
+    let classes = leaf_classes(&contact);
+    let mut warm = None;
+    let mut floor = 0.0;
+    for k in 0..=ALL_CONTACT_DOUBLINGS {
+        if control.must_stop(0) {
+            return None;
+        }
+        let level = bar * 2f64.powi(k);
+        let (decision, next) = leaf_program(ctx, counters, &contact, level, warm.as_ref());
+        warm = next.or(warm);
+        let r = match decision {
+            Decision::Yes { r, .. } => r,
+            Decision::No => {
+                floor = level;
+                continue;
+            }
+            Decision::Unsure(_) => continue,
+        };
+        if form.dim == 2 {
+            // In 2D the linear program is the leaf's own: its threshold by bisection on it
+            // (the solution at a level far above need not survive being made exact; on the 2D
+            // plug it did not), the bisection's last refuted level its lower end, and the
+            // point there made exact. (The leaf's threshold by `leaf_threshold` would need
+            // cone programs: 23 of them and 5 to 8 s on the plug at m = 80.)
+            let (lower, theta, r) = bisect(ctx, counters, &contact, floor, level, r, warm.as_ref());
+            let (t, p) = ctx.exact_point(&contact, &r, theta)?;
+            return Some(Leaf {
+                contact,
+                theta: t,
+                r: p,
+                lower: lower.min(t),
+            });
+        }
+        let Decision::Yes { r, .. } = form.decide_at(&classes, level, Norm::Sum, Goal::Feasible)
+        else {
+            continue;
+        };
+        let (t, p) = ctx.exact_point(&contact, &r, level)?;
+        let cap = || f64::INFINITY;
+        return ctx
+            .leaf_threshold(&contact, t, p, control, &cap)
+            .ok()
+            .flatten();
+    }
+    None
+}
+
 /// The search's linear program of the leaf of `contact` at `mu` (`sum r_n = 1`, no cuts), from
 /// `warm`: its decision and final basis.
 fn leaf_program(
@@ -180,7 +252,7 @@ fn leaf_program(
 
 /// A 2D leaf's threshold by bisection on its linear program between `floor` (a level where no
 /// neighbour was feasible, or 0) and `level` (where it has the solution `r`), to [`BISECTED`]:
-/// the upper end and its solution.
+/// the lower end (`floor` or a level the program refuted), the upper end and its solution.
 fn bisect(
     ctx: &Ctx,
     counters: &LpCounters,
@@ -189,7 +261,7 @@ fn bisect(
     level: f64,
     r: Vec<f64>,
     warm: Option<&Warm>,
-) -> (f64, Vec<f64>) {
+) -> (f64, f64, Vec<f64>) {
     let (mut lo, mut hi, mut r) = (floor, level, r);
     let mut warm = warm.cloned();
     while hi - lo > BISECTED * hi {
@@ -202,7 +274,7 @@ fn bisect(
             Decision::Unsure(_) => break,
         }
     }
-    (hi, r)
+    (lo, hi, r)
 }
 
 #[cfg(test)]
@@ -243,6 +315,58 @@ mod tests {
 
     fn set(mask: usize, m: usize) -> Vec<bool> {
         (0..m).map(|i| mask >> i & 1 == 1).collect()
+    }
+
+    /// The all-contact leaf ([`all_contact`]) of small random problems (2D and 3D) has the
+    /// threshold that bisection on the all-contact set's cone program gives, never below the
+    /// brute force's `mu*`; where that threshold is at most `64 bar` the leaf is found.
+    #[test]
+    fn all_contact_leaf_has_the_sets_threshold() {
+        const BAR: f64 = 0.5;
+        let cancel = AtomicBool::new(false);
+        let control = Control::new(Limits::default(), &cancel);
+        let (mut found, mut reachable) = (0, 0);
+        for case in 0..24u64 {
+            let dim = 2 + (case % 2) as usize;
+            let m = 2 + (case % 5) as usize;
+            let problem = random_spd_problem_dim(dim, m, 1.0, 500 + case);
+            let form = Formulation::new(&problem);
+            let ctx = Ctx {
+                form: &form,
+                tol: 1e-9,
+                tally: Tally::default(),
+            };
+            let all = vec![true; m];
+            let own = threshold(&form, &all, 64.0 * BAR);
+            let mu_star = (1..1usize << m)
+                .filter_map(|mask| threshold(&form, &set(mask, m), 64.0 * BAR))
+                .fold(f64::INFINITY, f64::min);
+            let leaf = all_contact(&ctx, &LpCounters::default(), &control, BAR);
+            let what = format!("case {case} (dim {dim}, m {m})");
+            match (own, leaf) {
+                (Some(t), Some(leaf)) => {
+                    found += 1;
+                    reachable += 1;
+                    assert!(leaf.contact.iter().all(|&c| c), "{what}");
+                    assert!(
+                        (leaf.theta - t).abs() <= 1e-6 * t,
+                        "{what}: {} against {t}",
+                        leaf.theta
+                    );
+                    assert!(leaf.theta >= mu_star * (1.0 - 1e-6), "{what}: below mu*");
+                }
+                (Some(t), None) => {
+                    reachable += 1;
+                    eprintln!("{what}: the all-contact threshold {t} not found");
+                }
+                (None, Some(leaf)) => panic!("{what}: a leaf at {} beyond the levels", leaf.theta),
+                (None, None) => {}
+            }
+        }
+        assert!(
+            reachable >= 8 && found >= reachable - 1,
+            "{found} of {reachable}"
+        );
     }
 
     /// From the worst leaf of small random problems (2D and 3D), the improvement lowers the

@@ -198,6 +198,7 @@ impl shard::Tree for Search<'_, '_> {
                 shape,
                 warm.as_deref(),
                 settle,
+                &|| self.control.must_stop(0),
             ) else {
                 self.pruned_infeasible.fetch_add(1, Ordering::Relaxed);
                 return None;

@@ -316,9 +316,15 @@ impl shard::Tree for Search<'_, '_> {
             // without, 214 with; the plug: m = 40 even, m = 50 and up faster).
             let settle =
                 depth == 0 && m >= SETTLE_FROM && classes.iter().all(|&c| c == Class::Free);
-            let Some((tight, start)) =
-                node_lp::tighten_node(form, counters, &classes, shape, warm.as_deref(), settle)
-            else {
+            let Some((tight, start)) = node_lp::tighten_node(
+                form,
+                counters,
+                &classes,
+                shape,
+                warm.as_deref(),
+                settle,
+                &|| self.control.must_stop(0),
+            ) else {
                 self.pruned.fetch_add(1, Ordering::Relaxed);
                 return None;
             };
