@@ -167,6 +167,14 @@ impl Search<'_, '_, '_> {
             let mut low = self.leaf_lower.lock().expect("no panics while held");
             *low = low.min(leaf.lower);
         }
+        self.offer_start(leaf);
+    }
+
+    /// Offers a leaf found outside the search (the all-contact set's, [`all_contact`]) as the
+    /// incumbent, without its lower end: the search decides that set's own leaf in its tree
+    /// like any other (refuted at the level, or its threshold computed there), so the proof
+    /// needs no bracket of it, and its bisection's (`1e-7`) would widen the run's.
+    fn offer_start(&self, leaf: Leaf) {
         let mut best = self.best.lock().expect("no panics while held");
         if best.as_ref().is_none_or(|b| leaf.theta < b.theta) {
             self.incumbent
@@ -538,7 +546,7 @@ pub(super) fn run(
                 // finds a leaf there in about 130 nodes.
                 let first = |search: &Search| {
                     if let Some(leaf) = all_contact(ctx, &search.lp, control, ctx.form.mu) {
-                        search.offer(leaf);
+                        search.offer_start(leaf);
                     }
                 };
                 if ctx.form.dim == 2 {
@@ -563,7 +571,14 @@ pub(super) fn run(
                 before.store(search.visited.load(Ordering::Relaxed), Ordering::Relaxed);
                 explored.reset();
                 split = Walk::new(&search, &explored).run(shard);
-                let found = search.best.lock().map_or(true, |b| b.is_some());
+                // Done once the incumbent set this pass's level (it lies at or below the bar):
+                // then everything below `incumbent (1 - tol)` is refuted. An incumbent above
+                // the bar (the all-contact leaf, not the search's) leaves the pass a proof
+                // that `mu* > bar`, and the next bar follows.
+                let found = search
+                    .best
+                    .lock()
+                    .map_or(true, |b| b.as_ref().is_some_and(|b| b.theta <= bar));
                 if found || control.stopped().is_some() {
                     break;
                 }
