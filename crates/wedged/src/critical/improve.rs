@@ -173,14 +173,16 @@ fn step(
 const ALL_CONTACT_DOUBLINGS: i32 = 6;
 
 /// A first leaf before the search's: the all-contact set's (every gap closed), from the first
-/// of the levels `bar`, `2 bar`, ..., `64 bar` at which its linear program has a solution (in
-/// 2D bisected on that program down to the level below; in 3D confirmed by its cone program),
-/// with its exact threshold; `None` when it has none there. It costs a few programs and one
-/// threshold, and it is an incumbent (a witness, an upper end of the bracket) where the search
+/// of the levels `bar`, `2 bar`, ..., `64 bar` at which its linear program has a solution; in
+/// 2D bisected on that program to [`BISECTED`] and the point there made exact (its ratio is
+/// the leaf's `theta`, within `1e-7` above the set's threshold), in 3D confirmed by its cone
+/// program and its threshold computed exactly. `None` when it has none there. It costs a few
+/// programs, and it is an incumbent (a witness, an upper end of the bracket) where the search
 /// may find none for long: on the 2D plug at m = 200 the dive's 2,000 nodes and then ten
-/// minutes of the first pass found no leaf, and the run ended with nothing to report. It is not improved by local search here (from the
-/// all-contact set that took 66 steps at m = 80 and stopped at a local minimum above the bar
-/// at m = 100, `BENCHMARKS.md`); the search's first leaf still is.
+/// minutes of the first pass found no leaf, and the run ended with nothing to report. It is
+/// not improved by local search here (from the all-contact set that took 66 steps at m = 80
+/// and stopped at a local minimum above the bar at m = 100, `BENCHMARKS.md`); the search's
+/// first leaf still is.
 pub(super) fn all_contact(
     ctx: &Ctx,
     counters: &LpCounters,
