@@ -499,13 +499,13 @@ fn time_left(share: f64, seconds: f64) -> String {
 }
 
 /// The test hook `WEDGED_INJECT_FAULT` (see `wedged::Fault`): tests set it to see an internal
-/// failure exit 1. An unknown name is an input error, so that a typo cannot pass unnoticed.
+/// failure exit 1, or an interrupted search report what it proved. An unknown name is an input error, so that a typo cannot pass unnoticed.
 pub fn injected_fault() -> Result<Option<wedged::Fault>, Failure> {
     match std::env::var("WEDGED_INJECT_FAULT") {
         Err(_) => Ok(None),
         Ok(name) => wedged::Fault::parse(&name).map(Some).ok_or_else(|| {
             Failure::Input(format!(
-                "WEDGED_INJECT_FAULT={name:?} is not a known fault (corrupt-witness)"
+                "WEDGED_INJECT_FAULT={name:?} is not a known fault (corrupt-witness, halt-after-pass)"
             ))
         }),
     }

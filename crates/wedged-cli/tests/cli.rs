@@ -1476,6 +1476,59 @@ fn exact_flag_needs_a_2d_ray_enumeration() {
     }
 }
 
+/// A `critical` run interrupted after a finished pass (the test hook
+/// `WEDGED_INJECT_FAULT=halt-after-pass`, where Ctrl-C or a time limit would land at a time that
+/// cannot be reproduced) reports the bracket proved so far: two independent nodes with
+/// `mu* = 1`, searched from a first bar of 0.25, prove `mu* > 0.25` in their first pass; the
+/// upper end is the all-contact set's checked configuration at 1. Exit 3, the JSON marked
+/// incomplete with both ends, and both ends said in the summary and on stderr.
+#[test]
+fn an_interrupted_critical_run_reports_the_bracket_proved_so_far() {
+    let toml = std::fs::read_to_string(fixture("two_nodes.toml"))
+        .unwrap()
+        .replace("mu = 1.1", "mu = 0.25");
+    let dir = dir_with(&[("low.toml", &toml)]);
+    let file = path_in(&dir, "low.toml");
+    let run = |json: bool| {
+        let mut args = vec!["critical", file.as_str()];
+        if json {
+            args.extend(["--json", "-"]);
+        }
+        Command::new(env!("CARGO_BIN_EXE_wedged"))
+            .args(&args)
+            .env("WEDGED_INJECT_FAULT", "halt-after-pass")
+            .output()
+            .expect("the binary runs")
+    };
+    let out = run(true);
+    assert_eq!(out.status.code(), Some(3), "stderr: {}", stderr(&out));
+    let report: Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    assert_eq!(report["status"], "incomplete");
+    assert_eq!(report["complete"], false);
+    assert_eq!(report["mu_critical"], Value::Null);
+    assert_eq!(report["lower"].as_f64(), Some(0.25), "{report}");
+    let upper = report["upper"].as_f64().expect("an upper end");
+    assert!((upper - 1.0).abs() < 1e-9, "{upper}");
+    let err = stderr(&out);
+    assert!(err.contains("0.25 < mu* <= 1 "), "{err}");
+    let out = run(false);
+    assert_eq!(out.status.code(), Some(3));
+    let text = stdout(&out);
+    assert!(
+        text.contains("INCOMPLETE: the run was interrupted; 0.25 < mu* <= 1:"),
+        "{text}"
+    );
+    // From a first bar above mu*, the first pass finds its configuration: complete, mu* = 1.
+    let dir = dir_with(&[("high.toml", &toml.replace("mu = 0.25", "mu = 2.0"))]);
+    let out = Command::new(env!("CARGO_BIN_EXE_wedged"))
+        .args(["critical", &path_in(&dir, "high.toml"), "--json", "-"])
+        .env("WEDGED_INJECT_FAULT", "halt-after-pass")
+        .output()
+        .expect("the binary runs");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(json_stdout(&out)["status"], "wedged");
+}
+
 /// An internal failure (here the test hook `WEDGED_INJECT_FAULT=corrupt-witness`, which moves the
 /// `mu*` witness off equilibrium before its final check) exits 1, on one line that says it is a
 /// bug and what failed, and prints no answer; bad input still exits 2.

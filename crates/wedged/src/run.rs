@@ -23,19 +23,28 @@ pub struct Limits {
     pub max_memory: Option<u64>,
 }
 
-/// A fault that tests inject to see an internal failure reported as one (exit 1 in the CLI);
-/// never set in use. See `CriticalSettings::fault`.
+/// A fault or event that tests inject to see it reported as it would be in use (an internal
+/// failure: exit 1 in the CLI; an interruption: exit 3); never set in use. See
+/// `CriticalSettings::fault`.
 #[doc(hidden)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Fault {
     /// Move the `mu*` witness off equilibrium just before its final check.
     CorruptWitness,
+    /// Interrupt the `bnb` search of `mu*` (as Ctrl-C would) once its first pass at a bar
+    /// has finished without a wedged configuration at or below that bar: at a reproducible
+    /// point where an incomplete run has a lower end to report.
+    HaltAfterPass,
 }
 
 impl Fault {
-    /// The fault named `name` (`corrupt-witness`), if any.
+    /// The fault named `name` (`corrupt-witness`, `halt-after-pass`), if any.
     pub fn parse(name: &str) -> Option<Fault> {
-        (name == "corrupt-witness").then_some(Fault::CorruptWitness)
+        match name {
+            "corrupt-witness" => Some(Fault::CorruptWitness),
+            "halt-after-pass" => Some(Fault::HaltAfterPass),
+            _ => None,
+        }
     }
 }
 
@@ -146,6 +155,12 @@ impl<'a> Control<'a> {
 
     pub(crate) fn stopped(&self) -> Option<Stop> {
         self.stop.get().copied()
+    }
+
+    /// Stops the run for `why` (unless it stopped already): the injected interruption
+    /// [`Fault::HaltAfterPass`].
+    pub(crate) fn halt(&self, why: Stop) {
+        let _ = self.stop.set(why);
     }
 }
 

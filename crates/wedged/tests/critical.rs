@@ -835,6 +835,67 @@ fn a_time_limit_of_zero_gives_an_incomplete_run() {
     }
 }
 
+/// A run interrupted after a pass that found nothing at or below its bar keeps that pass's
+/// proof as its lower end (issue 21: "a limit or Ctrl-C gives the bracket proved so far").
+/// The interruption is injected (`Fault::HaltAfterPass`) where it is reproducible. The first
+/// bar is the problem's `mu`: half the certified lower end (the pass proves `mu* > bar`: the
+/// lower end is the bar, the enumerations find nothing there, the upper end is the all-contact
+/// set's, at or above `mu*`), twice the upper end (the first pass finds its leaf, so the run
+/// is complete and agrees with the certified one), and `1` for a body that never wedges. Both
+/// the default search and the certified one (whose certificate must hold).
+#[test]
+fn an_interrupted_run_keeps_the_lower_end_its_passes_proved() {
+    let mut kept = 0;
+    for case in cases() {
+        let certified = &case.results[0].1;
+        let bars = match (certified.lower, certified.upper) {
+            (Some(l), Some(u)) => vec![0.5 * l, 2.0 * u],
+            _ => vec![1.0],
+        };
+        for bar in bars {
+            let problem = case.problem.with_mu(bar).unwrap();
+            for certify in [false, true] {
+                let what = format!("{}, first bar {bar}, certify {certify}", case.name());
+                let s = CriticalSettings {
+                    certify,
+                    fault: Some(wedged::Fault::HaltAfterPass),
+                    ..CriticalSettings::default()
+                };
+                let c = critical(&problem, &s).unwrap();
+                if let Some(cert) = &c.certificate {
+                    assert!(cert.certified, "{what}: {:?}", cert.failures);
+                }
+                if certified.upper.is_some_and(|u| bar >= u) {
+                    assert_eq!(c.status, CriticalStatus::Wedged, "{what}");
+                    assert_brackets_agree(&c, certified, "the certified run's", &what);
+                    continue;
+                }
+                assert_eq!(
+                    c.status,
+                    CriticalStatus::Incomplete(wedged::Stop::Interrupted),
+                    "{what}"
+                );
+                assert_eq!(c.mu_critical, None, "{what}");
+                let lower = c.lower.unwrap_or_else(|| panic!("{what}: no lower end"));
+                assert!(lower >= bar, "{what}: lower {lower}");
+                if let Some(l) = certified.lower {
+                    assert!(lower <= l, "{what}: lower {lower} above the certified {l}");
+                }
+                if let (Some(up), Some(u)) = (c.upper, certified.upper) {
+                    assert!(up >= u * (1.0 - AGREE), "{what}: upper {up} below mu* {u}");
+                    check_witness(&case.problem, &c, &what);
+                }
+                assert!(
+                    !wedges_at(&case.problem, lower, &what),
+                    "{what}: wedged at {lower}"
+                );
+                kept += 1;
+            }
+        }
+    }
+    assert!(kept > 50, "{kept} interrupted runs with a lower end");
+}
+
 /// Independent bodies (block-diagonal `K`): a leaf whose contact set spans two blocks has the
 /// lesser of the two blocks' thresholds, reached with zero pressure on the other block's contact
 /// nodes. The solver leaves round-off pressures on the unloaded block; `exact_point` must drop

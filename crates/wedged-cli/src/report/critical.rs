@@ -27,7 +27,9 @@
 //!   `mu_critical`, `lower`, `upper`, `tol_achieved`, `witness` and `pattern` are `null`.
 //! - `incomplete` (`"complete": false`, `"stopped"` says why): a limit, Ctrl-C, or solver
 //!   programs left undecided (listed in `undecided`). `upper` and `witness` may still be there
-//!   (checked), but `mu_critical` and `lower` are `null`: nothing is certified from below.
+//!   (checked), but `mu_critical` is `null`; `lower`, when not `null`, is what the passes of
+//!   the `bnb` search that finished before the stop proved: no friction coefficient at or
+//!   below it wedges the body (`mu* > lower`), not narrowed to `tol`.
 //!
 //! `thresholds` (method `enumerate`, and so `wedged sweep`) lists each maximal pattern of the
 //! enumeration at `info.mu_enumerated` with its own threshold (the least `mu` at which it is
@@ -362,21 +364,44 @@ pub fn render(
                 );
             }
         }
-        (CriticalStatus::Incomplete(stop), Some(upper)) => {
-            let _ = writeln!(
-                out,
-                "INCOMPLETE: {stop}; mu* <= {} (a wedged configuration exists there, checked; \
-                 below), but nothing below it is certified",
-                bound(upper, 10, Round::Up)
-            );
-        }
-        (CriticalStatus::Incomplete(stop), None) => {
-            let _ = writeln!(
-                out,
-                "INCOMPLETE: {stop} before any wedged configuration was found; nothing is \
-                 claimed about mu*"
-            );
-        }
+        (CriticalStatus::Incomplete(stop), Some(upper)) => match result.lower {
+            Some(lower) => {
+                let _ = writeln!(
+                    out,
+                    "INCOMPLETE: {stop}; {} < mu* <= {}: a wedged configuration exists at the \
+                     upper end (checked; below), and none below the lower end (every contact \
+                     set refuted there by the passes of the search that finished)",
+                    bound(lower, 10, Round::Down),
+                    bound(upper, 10, Round::Up)
+                );
+            }
+            None => {
+                let _ = writeln!(
+                    out,
+                    "INCOMPLETE: {stop}; mu* <= {} (a wedged configuration exists there, \
+                     checked; below), but nothing below it is certified",
+                    bound(upper, 10, Round::Up)
+                );
+            }
+        },
+        (CriticalStatus::Incomplete(stop), None) => match result.lower {
+            Some(lower) => {
+                let _ = writeln!(
+                    out,
+                    "INCOMPLETE: {stop} before any wedged configuration was found; mu* > {} \
+                     (every contact set refuted there by the passes of the search that \
+                     finished), nothing more is claimed",
+                    bound(lower, 10, Round::Down)
+                );
+            }
+            None => {
+                let _ = writeln!(
+                    out,
+                    "INCOMPLETE: {stop} before any wedged configuration was found; nothing is \
+                     claimed about mu*"
+                );
+            }
+        },
     }
     for u in &result.undecided {
         let set = crate::report::summary::contact_set(&u.contact);

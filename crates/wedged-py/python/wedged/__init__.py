@@ -213,7 +213,8 @@ class Critical:
     ``status``: ``wedged`` (``mu*`` in ``[lower, upper]``, ``mu`` = ``upper``, ``(u, r)`` a
     checked solution of WP at ``upper``), ``never`` (no ``mu`` wedges the body: ``mu``,
     ``lower``, ``upper``, ``u``, ``r`` are None) or ``incomplete`` (``complete`` False:
-    ``upper`` and the witness may be there, nothing is certified from below).
+    ``upper`` and the witness may be there; ``lower``, when there, is what the search's
+    finished passes proved: ``mu*`` lies above it).
     """
 
     status: str

@@ -47,7 +47,7 @@ use crate::conic::cuts::Drive;
 use crate::conic::node_lp::{self as lp, LpCounters, Shape, Warm};
 use crate::conic::program::{Class, Decision, Formulation, Goal, Norm};
 use crate::patterns::Undecided;
-use crate::run::Control;
+use crate::run::{Control, Stop};
 use crate::shard::{self, Explored, Shard, Walk};
 
 /// Search nodes down to this depth, or to `m /` [`TIGHTEN_PER_DEPTH`] when that is deeper,
@@ -479,13 +479,16 @@ fn bars(mu: f64) -> Vec<f64> {
     out
 }
 
-/// Runs the search; progress is reported from the calling thread every 200 ms.
+/// Runs the search; progress is reported from the calling thread every 200 ms. `halt`: stop
+/// as an interruption would after the first pass that finds no leaf at or below its bar
+/// ([`crate::run::Fault::HaltAfterPass`], a test hook).
 pub(super) fn run(
     ctx: &Ctx,
     info: &mut CriticalInfo,
     shard: Option<Shard>,
     progress: &dyn Fn(CriticalProgress),
     control: &Control,
+    halt: bool,
 ) -> Found {
     let search = Search {
         ctx,
@@ -533,9 +536,10 @@ pub(super) fn run(
     };
     // A pass per bar; each shard's passes split their trees alike (see `crate::shard`: the
     // top is decided at the bar, before any leaf).
-    let (split, dive_nodes) = crate::run::with_progress(
+    let (split, dive_nodes, proved) = crate::run::with_progress(
         || {
             let mut split = None;
+            let mut proved = None;
             let mut dived = 0;
             if search.heuristic && !control.must_stop(0) {
                 // The all-contact set's leaf is the incumbent until the search finds a better
@@ -569,6 +573,7 @@ pub(super) fn run(
             for bar in bars(ctx.form.mu) {
                 search.bar.store(bar.to_bits(), Ordering::Relaxed);
                 before.store(search.visited.load(Ordering::Relaxed), Ordering::Relaxed);
+                let undecided = search.undecided.lock().map_or(0, |u| u.len());
                 explored.reset();
                 split = Walk::new(&search, &explored).run(shard);
                 // Done once the incumbent set this pass's level (it lies at or below the bar):
@@ -582,8 +587,21 @@ pub(super) fn run(
                 if found || control.stopped().is_some() {
                     break;
                 }
+                // The pass ran to its end and found no leaf at or below its bar: every node
+                // was refuted at the level or above (the level only falls during a pass), and
+                // every leaf offered has its own lower end, so `mu*` lies above the lesser.
+                // Kept for a run stopped later; not when the solver left a node undecided.
+                // (The last pass, with no bar, ends the loop: the body never wedges.)
+                if search.undecided.lock().map_or(0, |u| u.len()) == undecided {
+                    let leaf_lower = search.leaf_lower.lock().map_or(0.0, |l| *l);
+                    proved = Some(search.level().min(leaf_lower)).filter(|l| l.is_finite());
+                }
+                if halt && bar.is_finite() {
+                    control.halt(Stop::Interrupted);
+                    break;
+                }
             }
-            (split, dived)
+            (split, dived, proved)
         },
         report,
     );
@@ -610,5 +628,6 @@ pub(super) fn run(
         undecided: search.undecided.into_inner().unwrap_or_default(),
         stop: None,
         shard: split,
+        proved,
     }
 }

@@ -120,7 +120,7 @@ pub(super) fn run(
     info.patterns_enumerated = pieces.len() as u64;
     if pieces.is_empty() {
         info.mu_enumerated = None;
-        return Ok(super::bnb::run(ctx, info, None, progress, control));
+        return Ok(super::bnb::run(ctx, info, None, progress, control, false));
     }
     let mut found = Found {
         lower: f64::INFINITY,

@@ -270,7 +270,9 @@ pub struct Critical {
     /// `upper` when the status is [`CriticalStatus::Wedged`]: the least friction coefficient at
     /// which a checked solution was found; the true `mu*` lies in `[lower, upper]`.
     pub mu_critical: Option<f64>,
-    /// The certified lower end (none when incomplete or never).
+    /// The certified lower end: of the bracket when wedged; when incomplete, what the `bnb`
+    /// passes finished before the stop proved (`mu*` above it: no contact set wedges the body
+    /// at it), if they proved anything; none when never.
     pub lower: Option<f64>,
     /// The upper end: the ratio of the witness.
     pub upper: Option<f64>,
@@ -369,7 +371,10 @@ pub fn critical_with_control(
         Found::default()
     } else {
         match settings.method {
-            CriticalMethod::Bnb => bnb::run(&ctx, &mut info, settings.shard, progress, &control),
+            CriticalMethod::Bnb => {
+                let halt = settings.fault == Some(Fault::HaltAfterPass);
+                bnb::run(&ctx, &mut info, settings.shard, progress, &control, halt)
+            }
             CriticalMethod::Faces => faces::run(&ctx, &mut info, progress, &control),
             CriticalMethod::Enumerate => {
                 enumerate::run(&ctx, &mut info, progress, settings.limits, cancel, &control)?
@@ -395,7 +400,8 @@ pub fn critical_with_control(
     };
     let upper = found.best.as_ref().map(|b| b.theta);
     let (status, lower) = match (stop, upper) {
-        (Some(s), _) => (CriticalStatus::Incomplete(s), None),
+        // A stopped run keeps what its finished passes proved: `mu* > proved`.
+        (Some(s), _) => (CriticalStatus::Incomplete(s), found.proved),
         (None, None) => (CriticalStatus::Never, None),
         (None, Some(_)) => (CriticalStatus::Wedged, Some(found.lower)),
     };
@@ -475,6 +481,9 @@ pub(crate) struct Found {
     pub best: Option<Leaf>,
     /// The certified lower end (meaningful with a best leaf and no stop).
     pub lower: f64,
+    /// A lower end proved even if the run stops later: the level of the last finished
+    /// pass that found no wedged configuration at or below it (`bnb` only; `mu* >` it).
+    pub proved: Option<f64>,
     pub thresholds: Vec<PatternThreshold>,
     pub undecided: Vec<Undecided>,
     /// A reason the method stopped on its own (enumerate: the enumeration's).
