@@ -7,7 +7,7 @@ mod common;
 
 use std::fs;
 
-use common::{assert_bad_input, assert_code, pattern_list, text, wedged};
+use common::{assert_bad_input, assert_code, pattern_list, printed_number, text, wedged};
 
 use serde_json::Value;
 use wedged::examples::floating_notch;
@@ -195,11 +195,7 @@ fn the_cork_demo_runs() {
         "{stdout}"
     );
     // The 2D cork's mu* is 0.5 (printed to the bracket's digits: "0.5" or "0.50000001").
-    let printed: f64 = stdout
-        .split("critical friction coefficient: mu* = ")
-        .nth(1)
-        .and_then(|rest| rest.split_whitespace().next())
-        .and_then(|x| x.parse().ok())
+    let printed = printed_number(&stdout, "critical friction coefficient: mu* = ")
         .unwrap_or_else(|| panic!("no 2D mu* printed: {stdout}"));
     assert!((printed - 0.5).abs() <= 1e-6, "{printed}: {stdout}");
     assert!(

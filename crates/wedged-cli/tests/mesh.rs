@@ -1,18 +1,14 @@
 //! The binary on meshed bodies: `[mesh]` problem files (generated and Gmsh), `--vtk`, `--svg`,
 //! `condense --mtx`, and the errors of the finite-element front end.
 
+mod common;
+
 use std::fs;
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
+use common::{assert_bad_input, assert_success, printed_number, text, wedged};
 use serde_json::Value;
-
-fn wedged(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wedged"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
 
 fn fixture(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -20,32 +16,6 @@ fn fixture(name: &str) -> String {
         .join(name)
         .display()
         .to_string()
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8(bytes.to_vec()).unwrap()
-}
-
-fn assert_success(out: &Output) {
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "stdout:\n{}\nstderr:\n{}",
-        text(&out.stdout),
-        text(&out.stderr)
-    );
-}
-
-/// Exit code 2, stderr one line `error: ...` containing every needle, no panic.
-fn assert_bad_input(out: &Output, needles: &[&str]) {
-    let err = text(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "stderr: {err}");
-    assert!(!err.contains("panicked"), "{err}");
-    assert!(err.starts_with("error: "), "{err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err}");
-    for needle in needles {
-        assert!(err.contains(needle), "{needle:?} not in {err}");
-    }
 }
 
 const PLUG: &str = r#"
@@ -449,11 +419,7 @@ fn the_example_files_run() {
     let out = wedged(&["critical", cork.to_str().unwrap()]);
     assert_success(&out);
     let stdout = text(&out.stdout);
-    let printed: f64 = stdout
-        .split("mu* = ")
-        .nth(1)
-        .and_then(|rest| rest.split_whitespace().next())
-        .and_then(|x| x.parse().ok())
+    let printed = printed_number(&stdout, "mu* = ")
         .unwrap_or_else(|| panic!("cork2d.toml: no mu* printed: {stdout}"));
     assert!((printed - 0.5).abs() <= 1e-6, "cork2d.toml: {printed}");
     let out = wedged(&["enumerate", cork.to_str().unwrap()]);

@@ -29,10 +29,16 @@ pub fn assert_code(out: &Output, code: i32) {
     assert!(!text(&out.stderr).contains("panicked"));
 }
 
-/// Exit code 2 with a one-line error that contains every needle.
+/// Exit code 0, and nothing panicked.
+pub fn assert_success(out: &Output) {
+    assert_code(out, 0);
+}
+
+/// Exit code 2 with a one-line error `error: ...` that contains every needle.
 pub fn assert_bad_input(out: &Output, needles: &[&str]) {
     assert_code(out, 2);
     let err = text(&out.stderr);
+    assert!(err.starts_with("error: "), "{err}");
     assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err}");
     for needle in needles {
         assert!(err.contains(needle), "{needle:?} not in {err}");
@@ -47,4 +53,14 @@ pub fn pattern_list(report: &serde_json::Value) -> Vec<serde_json::Value> {
         .iter()
         .map(|p| p["pattern"].clone())
         .collect()
+}
+
+/// The number printed right after the first `after` in `text` (up to the next whitespace), as
+/// in `mu* = 0.5 (certified ...`: a value printed to the digits its bracket needs is compared
+/// as a number, not as text.
+pub fn printed_number(text: &str, after: &str) -> Option<f64> {
+    text.split(after)
+        .nth(1)
+        .and_then(|rest| rest.split_whitespace().next())
+        .and_then(|x| x.parse().ok())
 }
