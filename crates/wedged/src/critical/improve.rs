@@ -155,18 +155,25 @@ fn step(
                 lower: 0.0,
             });
         }
-        let classes = leaf_classes(&contact);
-        let r = match form.decide_at(&classes, level, Norm::Sum, Goal::Feasible) {
-            Decision::Yes { r, .. } => r,
-            _ => return None,
-        };
-        let (t, p) = ctx.exact_point(&contact, &r, level)?;
-        let cap = || level;
-        match ctx.leaf_threshold(&contact, t, p, control, &cap) {
-            Ok(Some(leaf)) if leaf.theta < current.theta => Some(leaf),
-            _ => None,
-        }
+        confirm(ctx, control, &contact, level, level).filter(|leaf| leaf.theta < current.theta)
     })
+}
+
+/// The leaf of `contact` by its cone program: a solution at `level`, made exact, and the
+/// set's threshold computed exactly from that point (searched up to `cap`); `None` when the
+/// cone program has no solution at `level` or no exact point or threshold came of it.
+fn confirm(ctx: &Ctx, control: &Control, contact: &[bool], level: f64, cap: f64) -> Option<Leaf> {
+    let classes = leaf_classes(contact);
+    let Decision::Yes { r, .. } = ctx
+        .form
+        .decide_at(&classes, level, Norm::Sum, Goal::Feasible)
+    else {
+        return None;
+    };
+    let (t, p) = ctx.exact_point(contact, &r, level)?;
+    ctx.leaf_threshold(contact, t, p, control, &|| cap)
+        .ok()
+        .flatten()
 }
 
 /// How many levels above the bar, doubling, [`all_contact`] tries.
@@ -191,7 +198,6 @@ pub(super) fn all_contact(
 ) -> Option<Leaf> {
     let form = ctx.form;
     let contact = vec![true; form.m];
-    let classes = leaf_classes(&contact);
     let mut warm = None;
     let mut floor = 0.0;
     for k in 0..=ALL_CONTACT_DOUBLINGS {
@@ -224,16 +230,11 @@ pub(super) fn all_contact(
                 lower: lower.min(t),
             });
         }
-        let Decision::Yes { r, .. } = form.decide_at(&classes, level, Norm::Sum, Goal::Feasible)
-        else {
-            continue;
-        };
-        let (t, p) = ctx.exact_point(&contact, &r, level)?;
-        let cap = || f64::INFINITY;
-        return ctx
-            .leaf_threshold(&contact, t, p, control, &cap)
-            .ok()
-            .flatten();
+        // (A level whose cone program fails to confirm the linear program's solution is
+        // passed over for the next.)
+        if let Some(leaf) = confirm(ctx, control, &contact, level, f64::INFINITY) {
+            return Some(leaf);
+        }
     }
     None
 }
