@@ -590,9 +590,12 @@ pub fn run_critical_library(
 
 /// The live progress line of `critical` and `sweep` (without its carriage return).
 pub fn critical_progress_text(p: CriticalProgress, seconds: f64) -> String {
-    let best = match p.upper {
-        Some(mu) => format!("best mu {}", crate::report::sig4(mu)),
-        None => "no wedged configuration yet".to_string(),
+    let sig4 = crate::report::sig4;
+    let best = match (p.lower, p.upper) {
+        (Some(lo), Some(up)) => format!("mu* in ({}, {}]", sig4(lo), sig4(up)),
+        (None, Some(up)) => format!("best mu {}", sig4(up)),
+        (Some(lo), None) => format!("no wedged configuration yet, mu* > {}", sig4(lo)),
+        (None, None) => "no wedged configuration yet".to_string(),
     };
     let share = p.explored.clamp(0.0, 1.0);
     let pass = match p.bar {

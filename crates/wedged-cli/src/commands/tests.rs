@@ -149,6 +149,7 @@ fn critical_progress_names_the_best_mu() {
         upper: Some(1.23456),
         nodes: 0,
         bar: None,
+        lower: None,
     };
     assert_eq!(
         critical_progress_text(p, 3.42),
@@ -163,15 +164,34 @@ fn critical_progress_names_the_best_mu() {
         critical_progress_text(p, 3.42),
         "pass at mu <= 2.5: explored 37.2% (7065 nodes of about 19k), best mu 1.235, 3.4 s"
     );
+    // After a finished pass: the bracket proved so far (sig4 rounds to nearest: a progress
+    // line, not the certified answer).
+    let p = CriticalProgress {
+        lower: Some(1.2),
+        ..p
+    };
+    assert_eq!(
+        critical_progress_text(p, 3.42),
+        "pass at mu <= 2.5: explored 37.2% (7065 nodes of about 19k), mu* in (1.2, 1.235], 3.4 s"
+    );
     let p = CriticalProgress {
         explored: 0.0,
         upper: None,
         nodes: 0,
         bar: None,
+        lower: None,
     };
     assert_eq!(
         critical_progress_text(p, 1.0),
         "explored 0.0%, no wedged configuration yet, 1.0 s"
+    );
+    let p = CriticalProgress {
+        lower: Some(0.5),
+        ..p
+    };
+    assert_eq!(
+        critical_progress_text(p, 1.0),
+        "explored 0.0%, no wedged configuration yet, mu* > 0.5, 1.0 s"
     );
 }
 

@@ -521,6 +521,8 @@ pub(super) fn run(
     let explored = Explored::new();
     // The nodes visited before the present pass.
     let before = AtomicU64::new(0);
+    // The lower end proved by the finished passes, as `f64` bits (0: none yet).
+    let proved_bits = AtomicU64::new(0);
     let report = || {
         let best = search.incumbent();
         let bar = f64::from_bits(search.bar.load(Ordering::Relaxed));
@@ -532,6 +534,7 @@ pub(super) fn run(
                 .load(Ordering::Relaxed)
                 .saturating_sub(before.load(Ordering::Relaxed)),
             bar: bar.is_finite().then_some(bar),
+            lower: Some(f64::from_bits(proved_bits.load(Ordering::Relaxed))).filter(|&l| l > 0.0),
         });
     };
     // A pass per bar; each shard's passes split their trees alike (see `crate::shard`: the
@@ -595,6 +598,9 @@ pub(super) fn run(
                 if search.undecided.lock().map_or(0, |u| u.len()) == undecided {
                     let leaf_lower = search.leaf_lower.lock().map_or(0.0, |l| *l);
                     proved = Some(search.level().min(leaf_lower)).filter(|l| l.is_finite());
+                    if let Some(l) = proved {
+                        proved_bits.store(l.to_bits(), Ordering::Relaxed);
+                    }
                 }
                 if halt && bar.is_finite() {
                     control.halt(Stop::Interrupted);

@@ -50,6 +50,7 @@ pub(super) fn run(
             upper: None,
             nodes: 0,
             bar: None,
+            lower: None,
         });
         let (outcome, found) = if problem.dim() == 2 && !problem.is_floating() {
             let e = enumerate_with_control(
@@ -136,6 +137,7 @@ pub(super) fn run(
             upper: found.best.as_ref().map(|b| b.theta),
             nodes: 0,
             bar: None,
+            lower: None,
         });
         // The leaf of the zero-gap nodes.
         let contact: Vec<bool> = q.iter().map(|&c| c != ContactPattern::Separated).collect();

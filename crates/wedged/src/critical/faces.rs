@@ -37,6 +37,7 @@ pub(super) fn run(
             upper: found.best.as_ref().map(|b| b.theta),
             nodes: 0,
             bar: None,
+            lower: None,
         });
         let contact: Vec<bool> = (0..m).map(|i| mask >> i & 1 == 1).collect();
         let nodes: Vec<usize> = (0..m).filter(|&i| contact[i]).collect();

@@ -303,6 +303,9 @@ pub struct CriticalProgress {
     /// `bnb`: the bar of the present pass, when it is finite (the pass tests every node at
     /// `min(bar, best (1 - tol))`).
     pub bar: Option<f64>,
+    /// `bnb`: the lower end proved by the passes finished so far (`mu*` lies above it), as an
+    /// incomplete run reports it ([`Critical::lower`]).
+    pub lower: Option<f64>,
 }
 
 /// Computes the critical friction coefficient of a 2D or 3D problem. The problem's own `mu` is a
