@@ -62,6 +62,22 @@ def test_critical_brackets_a_checked_witness():
     assert balance_error(k, result.u, result.r) < 1e-9
 
 
+def test_an_interrupted_critical_run_keeps_the_bracket_it_proved(tmp_path, monkeypatch):
+    """Passes of the search that finished before a stop prove mu* > lower (issue 21): here
+    interrupted by the test hook after its first pass, from a first bar of 0.25 on two
+    independent nodes with mu* = 1; as the command reports it."""
+    path = tmp_path / "low.toml"
+    text = (FIXTURES / "two_nodes.toml").read_text().replace("mu = 1.1", "mu = 0.25")
+    path.write_text(text)
+    monkeypatch.setenv("WEDGED_INJECT_FAULT", "halt-after-pass")
+    problem = wedged.load(str(path))
+    result = problem.critical()
+    assert result.status == "incomplete" and result.complete is False and result.mu is None
+    assert "interrupted" in result.stopped
+    assert result.lower == 0.25 and abs(result.upper - 1.0) < 1e-9
+    assert balance_error(problem.K, result.u, result.r) < 1e-9
+
+
 def test_a_body_that_never_wedges():
     # No normal-tangential coupling: no friction coefficient wedges it.
     result = wedged.critical(np.diag([2.0, 1.0, 3.0, 1.0]))
