@@ -218,8 +218,8 @@ pub(crate) struct EnumerateArgs {
     /// Friction coefficient, overriding the file's `mu`.
     #[arg(long, value_name = "MU", allow_negative_numbers = true)]
     pub(crate) mu: Option<f64>,
-    /// Algorithm [default: pruned-dd for a 2D problem of up to 12 contact nodes;
-    /// pattern-search for a larger one (its extreme rays are out of reach there: the pieces
+    /// Algorithm [default: search (the rays) for a 2D problem of up to 12 contact nodes,
+    /// pruned-dd there with --max-rays or --max-memory; pattern-search for a larger one (its extreme rays are out of reach there: the pieces
     /// with a witness each instead; bnb with --certify), for a floating body, with --shard or
     /// --jsonl; bnb for a 3D one]. The ray methods
     /// (pruned-dd, full-dd, faces, exact, search) list the complementary extreme rays and the

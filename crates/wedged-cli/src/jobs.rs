@@ -119,12 +119,15 @@ pub struct EnumerateOptions {
 }
 
 /// The most contact nodes of a 2D problem (clamped, not sharded or streamed) for which
-/// `enumerate` lists the extreme rays by default (`pruned-dd`); above it the default is
-/// `pattern-search` (the pieces with a witness each; `bnb` with `--certify`). Measured on the
-/// triangle plug (whole process, pruned-dd against pattern-search): m = 12 0.02 s against
-/// 0.01 s, m = 14 0.11 s against 0.01 s, m = 16 0.99 s against 0.02 s, m = 18 7.1 s against
-/// 0.03 s, m = 20 264 s against 0.04 s: the rays' double description grows about 7x per two
-/// nodes there, the search with the pieces.
+/// `enumerate` lists the extreme rays by default; above it the default is `pattern-search`
+/// (the pieces with a witness each; `bnb` with `--certify`). Measured on the triangle plug
+/// (whole process, pruned-dd against pattern-search): m = 12 0.02 s against 0.01 s, m = 14
+/// 0.11 s against 0.01 s, m = 16 0.99 s against 0.02 s, m = 18 7.1 s against 0.03 s, m = 20
+/// 264 s against 0.04 s: the rays' double description grows about 7x per two nodes there, the
+/// search with the pieces. The rays by `search` (the pieces, then each one's rays) reach
+/// further on the plug (m = 20 in 0.2 s) but not far (m = 30 not in 120 s: the rays of its
+/// pieces multiply), and a random m = 12 problem already has thousands of rays (4,934 in
+/// 2.4 s).
 pub const RAYS_DEFAULT_MAX_NODES: usize = 12;
 
 /// The method and settings that `options` ask for on `problem` (`source` names the problem in
@@ -188,7 +191,17 @@ pub fn plan_enumerate(
                 PatternMethod::Search
             })
         }
-        None if problem.dim() == 2 => MethodArg::Rays(Method::PrunedDd),
+        // The rays: by `search` (the contact sets some solution presses, then each piece's
+        // rays in its own dimension), faster than the seed's pruned double description on
+        // every problem measured (BENCHMARKS.md, "The default ray method": random m = 9,
+        // whole process, 0.46x to 0.80x; random m = 12 0.33 s against 1.00 s); `pruned-dd`
+        // when the rays held are bounded (`--max-rays`, `--max-memory`: its ray store).
+        None if problem.dim() == 2
+            && (options.max_rays.is_some() || options.max_memory.is_some()) =>
+        {
+            MethodArg::Rays(Method::PrunedDd)
+        }
+        None if problem.dim() == 2 => MethodArg::Rays(Method::Search),
         None => MethodArg::Patterns(PatternMethod::Bnb),
     };
     if problem.is_floating() {

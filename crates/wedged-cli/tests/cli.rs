@@ -143,7 +143,7 @@ fn check_report(report: &Value, k: &DMatrix<f64>) {
     assert_eq!(keys.len(), expected, "{keys:?}");
     let info = report["info"].as_object().unwrap();
     let ray_method =
-        ["pruned-dd", "full-dd", "faces"].contains(&report["method"].as_str().unwrap());
+        ["pruned-dd", "full-dd", "faces", "search"].contains(&report["method"].as_str().unwrap());
     let info_keys: &[&str] = if ray_method {
         &[
             "rays_after_node",
@@ -468,7 +468,7 @@ fn summary_lists_rays_and_pieces() {
     assert_success(&out);
     let text = stdout(&out);
     assert!(
-        text.contains("dim 2, 3 nodes, mu = 1.5, method pruned-dd"),
+        text.contains("dim 2, 3 nodes, mu = 1.5, method search"),
         "{text}"
     );
     assert!(
@@ -789,7 +789,7 @@ fn a_2d_problem_gives_the_same_patterns_by_rays_and_by_patterns() {
         "-",
     ]));
     check_report(&rays, &k);
-    assert_eq!(rays["method"], "pruned-dd");
+    assert_eq!(rays["method"], "search");
     let set = pattern_set(&rays);
     assert_eq!(set.len(), 4);
     for method in ["bnb", "pyramid", "pattern-faces"] {

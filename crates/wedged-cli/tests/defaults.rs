@@ -1,8 +1,8 @@
 //! Which method `wedged enumerate` runs when none is named (issue 20: the fastest complete
-//! method for the problem, named in the summary and the JSON): in 2D `pruned-dd` (the extreme
-//! rays) up to 12 contact nodes and `pattern-search` (the pieces) above, `bnb` above with
-//! `--certify`, `pruned-dd` with a bound on the rays held; `bnb` in 3D. The default's pieces
-//! above 12 nodes are those of pruned-dd's cones.
+//! method for the problem, named in the summary and the JSON): in 2D `search` (the extreme
+//! rays, by the contact-set search) up to 12 contact nodes and `pattern-search` (the pieces)
+//! above, `bnb` above with `--certify`, `pruned-dd` with a bound on the rays held; `bnb` in
+//! 3D. The default's rays are pruned-dd's, and its pieces above 12 nodes pruned-dd's cones.
 
 mod common;
 
@@ -64,8 +64,22 @@ fn small_2d_problems_list_their_rays() {
     let dir = tempfile::tempdir().unwrap();
     let doc = run(&plug(dir.path(), 6), &[]);
     assert_eq!(doc["nodes"], 12);
-    assert_eq!(doc["method"], "pruned-dd");
+    assert_eq!(doc["method"], "search");
     assert!(!doc["rays"].as_array().unwrap().is_empty());
+    // The same rays (in the same order) and pieces as the seed's pruned double description,
+    // which a bound on the rays held asks for.
+    let dd = run(&plug(dir.path(), 6), &["--max-rays", "10000000"]);
+    assert_eq!(dd["method"], "pruned-dd");
+    let statuses = |d: &Value| -> Vec<String> {
+        d["rays"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r["status"].to_string())
+            .collect()
+    };
+    assert_eq!(statuses(&doc), statuses(&dd));
+    assert_eq!(pieces(&doc), pieces(&dd));
 }
 
 #[test]

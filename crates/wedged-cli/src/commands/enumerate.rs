@@ -208,10 +208,19 @@ pub(crate) fn incomplete_text(
     stop: Stop,
 ) -> String {
     match answer {
-        Answer::Rays(result) => format!(
+        // Double description: how far through the nodes it came.
+        Answer::Rays(result) if !result.info.rays_after_node.is_empty() => format!(
             "{source}: {stop} after {} of {} nodes; the result is incomplete",
             result.info.rays_after_node.len(),
             problem.nodes()
+        ),
+        // The others (or one stopped before its first node): the checked rays it reports.
+        Answer::Rays(result) => format!(
+            "{source}: {stop} with {} found so far (checked); the result is incomplete",
+            match result.rays.len() {
+                1 => "1 wedged configuration".to_string(),
+                n => format!("{n} wedged configurations"),
+            }
         ),
         Answer::Patterns(result) if stop == Stop::Undecided => format!(
             "{source}: {stop} ({} undecided, listed in the summary and the JSON); the patterns \

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 use wedged::fe::{ElementKind, Model, Plane};
 use wedged::patterns::{PatternMethod, Patterns};
-use wedged::{ContactPattern, Enumeration, NodeStatus, Outcome, Problem, Stop};
+use wedged::{ContactPattern, Enumeration, Method, NodeStatus, Outcome, Problem, Stop};
 
 use crate::report::answer::{Answer, Certified, Choice};
 
@@ -148,7 +148,7 @@ pub fn render(
         );
     }
     match answer {
-        Answer::Rays(result) => render_rays(&mut out, problem, result),
+        Answer::Rays(result) => render_rays(&mut out, problem, choice, result),
         Answer::Patterns(result) => render_patterns(&mut out, problem, choice, result),
     }
     if let Some(path) = json {
@@ -199,17 +199,25 @@ pub fn certification(c: &Certified) -> String {
 }
 
 /// The outcome, the tables and the info line of a ray method.
-fn render_rays(out: &mut String, problem: &Problem, result: &Enumeration) {
+fn render_rays(out: &mut String, problem: &Problem, choice: &Choice, result: &Enumeration) {
     let m = problem.nodes();
     match result.outcome {
         Outcome::Incomplete(stop) => {
-            let _ = writeln!(
-                out,
-                "INCOMPLETE: {stop} after {} of {m} nodes ({} rays held at the peak); nothing is \
-                 claimed about the wedged configurations",
-                result.info.rays_after_node.len(),
-                result.info.peak_rays
-            );
+            if by_double_description(choice) {
+                let _ = writeln!(
+                    out,
+                    "INCOMPLETE: {stop} after {} of {m} nodes ({} rays held at the peak); \
+                     nothing is claimed about the wedged configurations",
+                    result.info.rays_after_node.len(),
+                    result.info.peak_rays
+                );
+            } else {
+                let _ = writeln!(
+                    out,
+                    "INCOMPLETE: {stop}; nothing is claimed about the wedged configurations not \
+                     reported"
+                );
+            }
             if !result.rays.is_empty() {
                 let _ = writeln!(
                     out,
@@ -313,6 +321,12 @@ fn render_patterns(out: &mut String, problem: &Problem, choice: &Choice, result:
     }
     out.push('\n');
     pattern_info(out, problem, choice, result);
+}
+
+/// Whether the rays come from a double description that adds the nodes one by one (its
+/// progress is "after k of m nodes").
+pub(crate) fn by_double_description(choice: &Choice) -> bool {
+    matches!(choice, Choice::Rays(s) if matches!(s.method, Method::PrunedDd | Method::FullDd))
 }
 
 fn is_search(choice: &Choice) -> bool {

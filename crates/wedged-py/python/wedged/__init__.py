@@ -317,8 +317,8 @@ def enumerate(
 
     ``K``: ``dim m x dim m``, symmetric positive definite, local frames, normal first (a NumPy
     array or any ``scipy.sparse`` matrix). ``method``: as the command's ``--method``
-    (default in 2D ``pruned-dd`` up to 12 contact nodes, ``pattern-search`` above; ``bnb`` in
-    3D). ``time_limit`` in seconds (the result is
+    (default in 2D ``search``, the rays, up to 12 contact nodes, ``pattern-search`` above;
+    ``bnb`` in 3D). ``time_limit`` in seconds (the result is
     then marked incomplete); ``certify`` checks the answer in exact arithmetic (a failure
     raises :class:`InternalError`); ``progress`` draws the command's progress line on
     stderr once the run has lasted a second. ``rigid_modes``: for a floating body, its free

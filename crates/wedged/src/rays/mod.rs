@@ -129,6 +129,10 @@ pub fn enumerate_with_control(
         problem.equilibrated()
     };
     for raw_ray in raw {
+        // A run that must stop (a limit, Ctrl-C) reports the rays checked so far, incomplete.
+        if control.must_stop(0) {
+            break;
+        }
         let r: Vec<f64> = raw_ray
             .r
             .iter()

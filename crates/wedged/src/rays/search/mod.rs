@@ -51,12 +51,17 @@ pub(crate) fn run(
     info.search_undecided = tree.undecided;
     info.search_tightenings = tree.tightened;
     let mut undecided = false;
-    // The faces of the leaves, in parallel.
+    // The faces of the leaves, in parallel; once the run must stop (a limit, Ctrl-C), the
+    // faces not yet begun are skipped: the run is then incomplete, with the rays of the faces
+    // finished (as `faces` reports them).
     let tol = settings.zero_tol;
     let faces: Vec<Result<(Vec<face::FaceRay>, face::FaceStats), String>> =
         tree.leaves
             .par_iter()
             .map(|contact| {
+                if control.must_stop(0) {
+                    return Ok((Vec::new(), face::FaceStats::default()));
+                }
                 let classes = leaf_classes(contact);
                 match lp.support(&classes) {
                     Ok(None) => Ok((Vec::new(), face::FaceStats::default())),
