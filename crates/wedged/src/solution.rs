@@ -147,36 +147,50 @@ pub(crate) fn piece_patterns(statuses: &[Vec<NodeStatus>]) -> Vec<Vec<ContactPat
 
 /// The maximal cross-complementary sets of rays with these statuses, each with its pattern,
 /// in canonical order (the indices are into `statuses`).
+///
+/// Cross-complementarity depends only on which entries are positive: rays with the same signs
+/// (twins: the same nodes pressed, the same gaps open) are compatible with each other and with
+/// the same other rays, so a maximal set holds all of a sign class or none of it. The cliques
+/// are found on the graph of the classes, one vertex each, and each class stands for its rays.
+/// (On a random 2D problem with m = 12 and 24,556 rays, the graph of the rays themselves,
+/// 600 million adjacency entries, took most of a 97 s run.)
 pub(crate) fn pieces(statuses: &[&[NodeStatus]]) -> Vec<Cone> {
-    let p = statuses.len();
-    let adjacent: Vec<Vec<bool>> = (0..p)
-        .map(|i| {
-            (0..p)
-                .map(|j| i != j && cross_complementary(statuses[i], statuses[j]))
-                .collect()
-        })
-        .collect();
-    let mut cones: Vec<Cone> = maximal_cliques(p, |i, j| adjacent[i][j])
-        .into_iter()
-        .map(|members| {
-            let m = statuses.first().map_or(0, |s| s.len());
-            let pattern = (0..m)
-                .map(|k| {
-                    if members.iter().any(|&i| statuses[i][k].pressed()) {
-                        ContactPattern::Contact
-                    } else if members.iter().any(|&i| statuses[i][k].gap_open()) {
-                        ContactPattern::Separated
-                    } else {
-                        ContactPattern::Grazing
-                    }
-                })
-                .collect();
-            Cone {
-                rays: members,
-                pattern,
-            }
-        })
-        .collect();
+    let sign = |s: &[NodeStatus]| -> Vec<NodeStatus> {
+        s.iter()
+            .map(|&x| if x.pressed() { NodeStatus::Stick } else { x })
+            .collect()
+    };
+    let mut classes: std::collections::BTreeMap<Vec<NodeStatus>, Vec<usize>> =
+        std::collections::BTreeMap::new();
+    for (i, s) in statuses.iter().enumerate() {
+        classes.entry(sign(s)).or_default().push(i);
+    }
+    let classes: Vec<(Vec<NodeStatus>, Vec<usize>)> = classes.into_iter().collect();
+    let m = statuses.first().map_or(0, |s| s.len());
+    let mut cones: Vec<Cone> = maximal_cliques(classes.len(), |i, j| {
+        cross_complementary(&classes[i].0, &classes[j].0)
+    })
+    .into_iter()
+    .map(|members| {
+        let pattern = (0..m)
+            .map(|k| {
+                if members.iter().any(|&c| classes[c].0[k].pressed()) {
+                    ContactPattern::Contact
+                } else if members.iter().any(|&c| classes[c].0[k].gap_open()) {
+                    ContactPattern::Separated
+                } else {
+                    ContactPattern::Grazing
+                }
+            })
+            .collect();
+        let mut rays: Vec<usize> = members
+            .iter()
+            .flat_map(|&c| classes[c].1.iter().copied())
+            .collect();
+        rays.sort_unstable();
+        Cone { rays, pattern }
+    })
+    .collect();
     cones.sort_by(|a, b| a.rays.cmp(&b.rays));
     cones
 }
@@ -253,4 +267,65 @@ pub(crate) fn tangential(r: &[f64], d: usize, i: usize) -> f64 {
         .map(|x| x * x)
         .sum::<f64>()
         .sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// The cones on the graph of the rays themselves, as they were found before the rays were
+    /// merged into sign classes.
+    fn pieces_of_every_ray(statuses: &[&[NodeStatus]]) -> Vec<Cone> {
+        let m = statuses.first().map_or(0, |s| s.len());
+        let mut cones: Vec<Cone> = maximal_cliques(statuses.len(), |i, j| {
+            cross_complementary(statuses[i], statuses[j])
+        })
+        .into_iter()
+        .map(|members| {
+            let pattern = (0..m)
+                .map(|k| {
+                    if members.iter().any(|&i| statuses[i][k].pressed()) {
+                        ContactPattern::Contact
+                    } else if members.iter().any(|&i| statuses[i][k].gap_open()) {
+                        ContactPattern::Separated
+                    } else {
+                        ContactPattern::Grazing
+                    }
+                })
+                .collect();
+            Cone {
+                rays: members,
+                pattern,
+            }
+        })
+        .collect();
+        cones.sort_by(|a, b| a.rays.cmp(&b.rays));
+        cones
+    }
+
+    /// Random ray statuses, with twins (the same signs, other friction states) and repeats:
+    /// the cones by sign classes are the cones of the rays' own graph.
+    #[test]
+    fn cones_by_sign_classes_are_the_cones_of_the_rays() {
+        use NodeStatus::*;
+        let all = [Separated, Grazing, Stick, SlipPlus, SlipMinus];
+        let mut rng = ChaCha8Rng::seed_from_u64(150);
+        let mut several = 0;
+        for trial in 0..400 {
+            let m = 1 + trial % 6;
+            let n = rng.gen_range(0..40);
+            // Few distinct sign vectors for many rays: many twins.
+            let kinds = rng.gen_range(1..=5);
+            let statuses: Vec<Vec<NodeStatus>> = (0..n)
+                .map(|_| (0..m).map(|_| all[rng.gen_range(0..kinds)]).collect())
+                .collect();
+            let refs: Vec<&[NodeStatus]> = statuses.iter().map(|s| s.as_slice()).collect();
+            let by_classes = pieces(&refs);
+            assert_eq!(by_classes, pieces_of_every_ray(&refs), "trial {trial}");
+            several += by_classes.iter().filter(|c| c.rays.len() > 1).count();
+        }
+        assert!(several > 100, "{several} cones of several rays");
+    }
 }
