@@ -73,7 +73,7 @@ use crate::run::{Control, EnumerateError, Fault, Limits, Stop};
 use crate::shard::{Shard, ShardReport};
 
 pub use shards::merge_shards;
-pub(crate) use witness::witness_of;
+pub(crate) use witness::{corrupt, witness_of};
 
 /// The most nodes [`CriticalMethod::Faces`] accepts.
 pub const CRITICAL_FACES_MAX_NODES: usize = 12;
@@ -794,14 +794,5 @@ impl Ctx<'_, '_> {
             r,
             lower: lo,
         }))
-    }
-}
-
-/// The injected fault [`Fault::CorruptWitness`]: move the first displacement by more than the
-/// displacement's size, so that equilibrium fails by far more than any tolerance.
-fn corrupt(u: &mut [f64]) {
-    let size = u.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    if let Some(first) = u.first_mut() {
-        *first += 1.0 + 10.0 * size;
     }
 }

@@ -55,3 +55,12 @@ pub(crate) fn witness_of(
         pattern,
     })
 }
+
+/// The injected fault [`crate::run::Fault::CorruptWitness`]: move the first displacement by
+/// more than the displacement's size, so that equilibrium fails by far more than any tolerance.
+pub(crate) fn corrupt(u: &mut [f64]) {
+    let size = u.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if let Some(first) = u.first_mut() {
+        *first += 1.0 + 10.0 * size;
+    }
+}
