@@ -27,6 +27,8 @@ pub mod verify;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
+use rayon::prelude::*;
+
 pub use params::{Enumeration, Info, Method, Progress, Settings, FACES_MAX_NODES};
 
 use crate::problem::Problem;
@@ -128,19 +130,29 @@ pub fn enumerate_with_control(
     } else {
         problem.equilibrated()
     };
-    for raw_ray in raw {
-        // A run that must stop (a limit, Ctrl-C) reports the rays checked so far, incomplete.
-        if control.must_stop(0) {
-            break;
-        }
-        let r: Vec<f64> = raw_ray
-            .r
-            .iter()
-            .enumerate()
-            .map(|(a, x)| x * t[a / 2])
-            .collect();
-        let ray = polish_and_verify(&scaled, &r, raw_ray.status, settings.zero_tol)?;
-        rays.push(in_units_of(ray, &t));
+    // Each ray on its own, in parallel (one SVD each: on a random m = 9 problem with 439 rays
+    // about 40% of the run's time), in order, so that a failure reported is the first one.
+    // A run that must stop (a limit, Ctrl-C) reports the rays checked so far, incomplete.
+    let checked: Vec<Option<Result<Ray, verify::VerifyError>>> = raw
+        .into_par_iter()
+        .map(|raw_ray| {
+            if control.must_stop(0) {
+                return None;
+            }
+            let r: Vec<f64> = raw_ray
+                .r
+                .iter()
+                .enumerate()
+                .map(|(a, x)| x * t[a / 2])
+                .collect();
+            Some(
+                polish_and_verify(&scaled, &r, raw_ray.status, settings.zero_tol)
+                    .map(|ray| in_units_of(ray, &t)),
+            )
+        })
+        .collect();
+    for ray in checked.into_iter().flatten() {
+        rays.push(ray?);
     }
     rays.sort_by(|a, b| a.status.cmp(&b.status));
     rays.dedup_by(|a, b| a.status == b.status);
