@@ -132,11 +132,14 @@ pub fn enumerate_with_control(
     };
     // Each ray on its own, in parallel (one SVD each: on a random m = 9 problem with 439 rays
     // about 40% of the run's time), in order, so that a failure reported is the first one.
-    // A run that must stop (a limit, Ctrl-C) reports the rays checked so far, incomplete.
+    // A run that must stop while they are checked (a limit, Ctrl-C) reports the rays checked
+    // so far, incomplete. (A method that stopped before hands back the rays it finished, as
+    // `faces` does: they are its answer, and all of them are checked.)
+    let stopped = control.stopped().is_some();
     let checked: Vec<Option<Result<Ray, verify::VerifyError>>> = raw
         .into_par_iter()
         .map(|raw_ray| {
-            if control.must_stop(0) {
+            if !stopped && control.must_stop(0) {
                 return None;
             }
             let r: Vec<f64> = raw_ray
