@@ -124,25 +124,14 @@ pub fn cross_complementary(a: &[NodeStatus], b: &[NodeStatus]) -> bool {
 }
 
 /// The patterns of the maximal cross-complementary sets of rays with these statuses (the
-/// pyramid method's candidates).
-///
-/// Cross-complementarity depends only on which entries are positive, so rays with the same
-/// positive entries are merged first (each stands for all, being compatible with itself): the
-/// graph then has one vertex per distinct sign pattern, not one per ray (a piece of a fine
-/// pyramid has thousands of rays).
+/// pyramid method's candidates), sorted. [`pieces`] groups the rays by sign first, so a piece of
+/// a fine pyramid with thousands of rays costs one vertex of the graph per sign class.
 pub(crate) fn piece_patterns(statuses: &[Vec<NodeStatus>]) -> Vec<Vec<ContactPattern>> {
-    let mut signs: Vec<Vec<NodeStatus>> = statuses
-        .iter()
-        .map(|s| {
-            s.iter()
-                .map(|&x| if x.pressed() { NodeStatus::Stick } else { x })
-                .collect()
-        })
-        .collect();
-    signs.sort();
-    signs.dedup();
-    let statuses: Vec<&[NodeStatus]> = signs.iter().map(|s| s.as_slice()).collect();
-    pieces(&statuses).into_iter().map(|c| c.pattern).collect()
+    let statuses: Vec<&[NodeStatus]> = statuses.iter().map(Vec::as_slice).collect();
+    let mut patterns: Vec<Vec<ContactPattern>> =
+        pieces(&statuses).into_iter().map(|c| c.pattern).collect();
+    patterns.sort();
+    patterns
 }
 
 /// The maximal cross-complementary sets of rays with these statuses, each with its pattern,
