@@ -194,7 +194,7 @@ pub(crate) fn report(
     }
     match incomplete {
         Some(stop) => Err(Failure::Incomplete(incomplete_text(
-            source, problem, answer, stop,
+            source, problem, choice, answer, stop,
         ))),
         None => Ok(()),
     }
@@ -204,17 +204,18 @@ pub(crate) fn report(
 pub(crate) fn incomplete_text(
     source: &str,
     problem: &Problem,
+    choice: &Choice,
     answer: &Answer,
     stop: Stop,
 ) -> String {
     match answer {
-        // Double description: how far through the nodes it came.
-        Answer::Rays(result) if !result.info.rays_after_node.is_empty() => format!(
+        // Double description: how far through the nodes it came (as the summary says).
+        Answer::Rays(result) if summary::by_double_description(choice) => format!(
             "{source}: {stop} after {} of {} nodes; the result is incomplete",
             result.info.rays_after_node.len(),
             problem.nodes()
         ),
-        // The others (or one stopped before its first node): the checked rays it reports.
+        // The others: the checked rays they report.
         Answer::Rays(result) => format!(
             "{source}: {stop} with {} found so far (checked); the result is incomplete",
             match result.rays.len() {

@@ -120,9 +120,11 @@ fn incomplete_pattern_runs_say_why_without_node_counts() {
         certificate: None,
         shard: None,
     };
+    let choice = Choice::Patterns(PatternSettings::default());
     let text = incomplete_text(
         "p.toml",
         &problem,
+        &choice,
         &Answer::Patterns(result.clone()),
         Stop::Undecided,
     );
@@ -134,7 +136,7 @@ fn incomplete_pattern_runs_say_why_without_node_counts() {
     );
     result.undecided.clear();
     let stop = Stop::TimeLimit(Duration::from_secs(2));
-    let text = incomplete_text("p.toml", &problem, &Answer::Patterns(result), stop);
+    let text = incomplete_text("p.toml", &problem, &choice, &Answer::Patterns(result), stop);
     assert_eq!(
         text,
         "p.toml: the time limit of 2 s ran out with 0 maximal patterns found so far; the \
@@ -207,4 +209,37 @@ fn critical_method_names_are_the_library_names() {
 #[test]
 fn one_line_joins_lines() {
     assert_eq!(one_line("a\n  b\n\nc "), "a; b; c");
+}
+
+#[test]
+fn the_incomplete_line_of_a_ray_method_follows_the_method_as_the_summary_does() {
+    use wedged::rays::{Enumeration, Info};
+    let problem = Problem::new(2, nalgebra::DMatrix::identity(6, 6), 1.0).unwrap();
+    let stop = Stop::TimeLimit(Duration::from_secs(2));
+    // Stopped before its first node: a double description still says how far it came, and a
+    // method that does not go node by node says what it checked.
+    let result = Enumeration {
+        outcome: wedged::Outcome::Incomplete(stop),
+        rays: Vec::new(),
+        cones: Vec::new(),
+        info: Info::default(),
+    };
+    let answer = Answer::Rays(result);
+    let dd = Choice::Rays(Settings {
+        method: Method::PrunedDd,
+        ..Settings::default()
+    });
+    let search = Choice::Rays(Settings {
+        method: Method::Search,
+        ..Settings::default()
+    });
+    assert_eq!(
+        incomplete_text("p.toml", &problem, &dd, &answer, stop),
+        "p.toml: the time limit of 2 s ran out after 0 of 3 nodes; the result is incomplete"
+    );
+    assert_eq!(
+        incomplete_text("p.toml", &problem, &search, &answer, stop),
+        "p.toml: the time limit of 2 s ran out with 0 wedged configurations found so far \
+         (checked); the result is incomplete"
+    );
 }

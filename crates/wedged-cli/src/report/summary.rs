@@ -325,7 +325,7 @@ fn render_patterns(out: &mut String, problem: &Problem, choice: &Choice, result:
 
 /// Whether the rays come from a double description that adds the nodes one by one (its
 /// progress is "after k of m nodes").
-pub(crate) fn by_double_description(choice: &Choice) -> bool {
+pub fn by_double_description(choice: &Choice) -> bool {
     matches!(choice, Choice::Rays(s) if matches!(s.method, Method::PrunedDd | Method::FullDd))
 }
 
