@@ -521,8 +521,10 @@ pub(super) fn run(
     let explored = Explored::new();
     // The nodes visited before the present pass.
     let before = AtomicU64::new(0);
-    // The lower end proved by the finished passes, as `f64` bits (0: none yet).
+    // The lower end proved by the finished passes, as `f64` bits (0: none yet), read by the
+    // progress line while the passes run.
     let proved_bits = AtomicU64::new(0);
+    let proved = |bits: u64| Some(f64::from_bits(bits)).filter(|&l| l > 0.0);
     let report = || {
         let best = search.incumbent();
         let bar = f64::from_bits(search.bar.load(Ordering::Relaxed));
@@ -534,15 +536,14 @@ pub(super) fn run(
                 .load(Ordering::Relaxed)
                 .saturating_sub(before.load(Ordering::Relaxed)),
             bar: bar.is_finite().then_some(bar),
-            lower: Some(f64::from_bits(proved_bits.load(Ordering::Relaxed))).filter(|&l| l > 0.0),
+            lower: proved(proved_bits.load(Ordering::Relaxed)),
         });
     };
     // A pass per bar; each shard's passes split their trees alike (see `crate::shard`: the
     // top is decided at the bar, before any leaf).
-    let (split, dive_nodes, proved) = crate::run::with_progress(
+    let (split, dive_nodes) = crate::run::with_progress(
         || {
             let mut split = None;
-            let mut proved = None;
             let mut dived = 0;
             if search.heuristic && !control.must_stop(0) {
                 // The all-contact set's leaf is the incumbent until the search finds a better
@@ -597,9 +598,9 @@ pub(super) fn run(
                 // (The last pass, with no bar, ends the loop: the body never wedges.)
                 if search.undecided.lock().map_or(0, |u| u.len()) == undecided {
                     let leaf_lower = search.leaf_lower.lock().map_or(0.0, |l| *l);
-                    proved = Some(search.level().min(leaf_lower)).filter(|l| l.is_finite());
-                    if let Some(l) = proved {
-                        proved_bits.store(l.to_bits(), Ordering::Relaxed);
+                    let level = search.level().min(leaf_lower);
+                    if level.is_finite() {
+                        proved_bits.store(level.to_bits(), Ordering::Relaxed);
                     }
                 }
                 if halt && bar.is_finite() {
@@ -607,7 +608,7 @@ pub(super) fn run(
                     break;
                 }
             }
-            (split, dived, proved)
+            (split, dived)
         },
         report,
     );
@@ -634,6 +635,6 @@ pub(super) fn run(
         undecided: search.undecided.into_inner().unwrap_or_default(),
         stop: None,
         shard: split,
-        proved,
+        proved: proved(proved_bits.into_inner()),
     }
 }
