@@ -1515,7 +1515,7 @@ fn an_interrupted_critical_run_reports_the_bracket_proved_so_far() {
     assert_eq!(out.status.code(), Some(3));
     let text = stdout(&out);
     assert!(
-        text.contains("INCOMPLETE: the run was interrupted; 0.25 < mu* <= 1:"),
+        text.contains("INCOMPLETE: the run was interrupted; 0.25 < mu* <= 1 ("),
         "{text}"
     );
     // From a first bar above mu*, the first pass finds its configuration: complete, mu* = 1.

@@ -276,23 +276,7 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
 
 /// The `incomplete: ...` line of an incomplete `critical` or `sweep` run.
 pub(crate) fn critical_incomplete_text(source: &str, result: &Critical, stop: Stop) -> String {
-    use report::critical::{bound, Round};
-    let found = match (result.lower, result.upper) {
-        (Some(lower), Some(upper)) => format!(
-            "{} < mu* <= {} (a checked wedged configuration above, refuted contact sets below)",
-            bound(lower, 10, Round::Down),
-            bound(upper, 10, Round::Up)
-        ),
-        (None, Some(upper)) => format!(
-            "mu* <= {} (a checked wedged configuration), not certified from below",
-            bound(upper, 10, Round::Up)
-        ),
-        (Some(lower), None) => format!(
-            "no wedged configuration found; mu* > {} (refuted contact sets)",
-            bound(lower, 10, Round::Down)
-        ),
-        (None, None) => "no wedged configuration found, nothing claimed about mu*".to_string(),
-    };
+    let found = report::critical::incomplete_bracket(result);
     if stop == Stop::Undecided {
         format!(
             "{source}: {stop} ({} undecided, listed in the summary and the JSON); {found}; the \

@@ -303,6 +303,29 @@ pub fn answer_line(result: &Critical, tol: f64) -> Option<String> {
     }
 }
 
+/// What an incomplete run proved of `mu*`, as one phrase: the summary's `INCOMPLETE` line and
+/// the `incomplete:` line on stderr both say it.
+pub fn incomplete_bracket(result: &Critical) -> String {
+    match (result.lower, result.upper) {
+        (Some(lower), Some(upper)) => format!(
+            "{} < mu* <= {} (a checked wedged configuration at the upper end; every contact set \
+             refuted at the lower end by the passes of the search that finished)",
+            bound(lower, 10, Round::Down),
+            bound(upper, 10, Round::Up)
+        ),
+        (None, Some(upper)) => format!(
+            "mu* <= {} (a checked wedged configuration there), but nothing below it is certified",
+            bound(upper, 10, Round::Up)
+        ),
+        (Some(lower), None) => format!(
+            "no wedged configuration found yet; mu* > {} (every contact set refuted there by the \
+             passes of the search that finished)",
+            bound(lower, 10, Round::Down)
+        ),
+        (None, None) => "no wedged configuration found yet; nothing is claimed about mu*".into(),
+    }
+}
+
 /// The human-readable summary; `json` is the JSON file written, if any.
 pub fn render(
     problem: &Problem,
@@ -364,44 +387,18 @@ pub fn render(
                 );
             }
         }
-        (CriticalStatus::Incomplete(stop), Some(upper)) => match result.lower {
-            Some(lower) => {
-                let _ = writeln!(
-                    out,
-                    "INCOMPLETE: {stop}; {} < mu* <= {}: a wedged configuration exists at the \
-                     upper end (checked; below), and none below the lower end (every contact \
-                     set refuted there by the passes of the search that finished)",
-                    bound(lower, 10, Round::Down),
-                    bound(upper, 10, Round::Up)
-                );
-            }
-            None => {
-                let _ = writeln!(
-                    out,
-                    "INCOMPLETE: {stop}; mu* <= {} (a wedged configuration exists there, \
-                     checked; below), but nothing below it is certified",
-                    bound(upper, 10, Round::Up)
-                );
-            }
-        },
-        (CriticalStatus::Incomplete(stop), None) => match result.lower {
-            Some(lower) => {
-                let _ = writeln!(
-                    out,
-                    "INCOMPLETE: {stop} before any wedged configuration was found; mu* > {} \
-                     (every contact set refuted there by the passes of the search that \
-                     finished), nothing more is claimed",
-                    bound(lower, 10, Round::Down)
-                );
-            }
-            None => {
-                let _ = writeln!(
-                    out,
-                    "INCOMPLETE: {stop} before any wedged configuration was found; nothing is \
-                     claimed about mu*"
-                );
-            }
-        },
+        (CriticalStatus::Incomplete(stop), _) => {
+            let below = if result.witness.is_some() {
+                "; the configuration is below"
+            } else {
+                ""
+            };
+            let _ = writeln!(
+                out,
+                "INCOMPLETE: {stop}; {}{below}",
+                incomplete_bracket(result)
+            );
+        }
     }
     for u in &result.undecided {
         let set = crate::report::summary::contact_set(&u.contact);
