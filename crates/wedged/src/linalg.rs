@@ -56,15 +56,23 @@ pub(crate) fn rank(a: &mut [f64], rows: usize, cols: usize, tol: f64) -> usize {
 /// The singular values (ascending) of `a` with its rows scaled to unit 2-norm, and the right
 /// singular vector of the smallest one. `a` may have fewer rows than columns.
 pub(crate) fn null_vector(a: &DMatrix<f64>) -> (Vec<f64>, Vec<f64>) {
-    let n = a.ncols();
-    let rows = a.nrows().max(n);
-    let mut b = DMatrix::<f64>::zeros(rows, n);
+    let mut b = a.clone();
     for i in 0..a.nrows() {
         let norm = a.row(i).norm();
         if norm > 0.0 {
             b.set_row(i, &(a.row(i) / norm));
         }
     }
+    smallest_singular(&b)
+}
+
+/// The singular values (ascending) of `a` as it is, and the right singular vector of the
+/// smallest one. `a` may have fewer rows than columns.
+pub(crate) fn smallest_singular(a: &DMatrix<f64>) -> (Vec<f64>, Vec<f64>) {
+    let n = a.ncols();
+    let rows = a.nrows().max(n);
+    let mut b = DMatrix::<f64>::zeros(rows, n);
+    b.rows_mut(0, a.nrows()).copy_from(a);
     let svd = b.svd(false, true);
     let vt = svd.v_t.expect("requested V^T");
     let mut order: Vec<usize> = (0..n).collect();
