@@ -133,9 +133,11 @@ pub(crate) fn largest_shrink(old: &[(f64, f64)], new: &[(f64, f64)]) -> f64 {
 
 /// Bound tightening at a search node: for every free node of `classes`, the least and the
 /// greatest drive over its relaxation at a finite `mu` with `sum r_n = 1` and the cuts of
-/// `drive`, intersected with `drive`. `minimise` solves that relaxation with a linear
-/// objective over the reaction components (by Clarabel, [`clarabel_relaxation`], or by the
-/// simplex method, [`super::node_lp`]). `None` when the relaxation is infeasible (certified by
+/// `drive`, intersected with `drive`. `minimise(key, objective)` solves that relaxation with a
+/// linear objective over the reaction components, by Clarabel ([`clarabel_relaxation`]) or by
+/// the simplex method ([`super::node_lp`]); `key` names the program (`2 j` the least drive of
+/// node `j`, `2 j + 1` the greatest), so that a solver may start each from where the same
+/// program ended before. `None` when the relaxation is infeasible (certified by
 /// the solver: the subtree has no solution at `mu` or below). A bound the solver cannot
 /// decide stays as it was, and so do the bounds not yet tightened once `stop()` (the run's
 /// limit or Ctrl-C: at m = 200 one node's programs take seconds).
@@ -143,7 +145,7 @@ pub(crate) fn tighten(
     form: &Formulation,
     classes: &[Class],
     drive: Option<&Drive>,
-    minimise: &(dyn Fn(&[f64]) -> Decision + Sync),
+    minimise: &(dyn Fn(usize, &[f64]) -> Decision + Sync),
     stop: &(dyn Fn() -> bool + Sync),
 ) -> Option<Drive> {
     let m = form.m;
@@ -166,7 +168,8 @@ pub(crate) fn tighten(
             let w = drive_row(form, j);
             let extreme = |sign: f64| -> Option<Option<f64>> {
                 let objective: Vec<f64> = w.iter().map(|x| sign * x).collect();
-                match minimise(&objective) {
+                let key = 2 * j + usize::from(sign < 0.0);
+                match minimise(key, &objective) {
                     Decision::No => None,
                     Decision::Unsure(_) => Some(None),
                     Decision::Yes { r, .. } => {
@@ -198,11 +201,11 @@ pub(crate) fn clarabel_relaxation<'a>(
     classes: &'a [Class],
     mu: f64,
     drive: Option<&Drive>,
-) -> impl Fn(&[f64]) -> Decision + Sync + 'a {
+) -> impl Fn(usize, &[f64]) -> Decision + Sync + 'a {
     use crate::conic::program::{Goal, Norm};
     debug_assert!(mu.is_finite());
     let cuts = drive.map(|d| rows(form, classes, d)).unwrap_or_default();
-    move |objective: &[f64]| {
+    move |_key: usize, objective: &[f64]| {
         form.decide_cut(classes, mu, Norm::Sum, Goal::Minimise(objective), &cuts)
             .0
     }
@@ -257,7 +260,8 @@ mod tests {
                             mu,
                             drive: arc.as_ref(),
                         };
-                        let minimise = lp::relaxation(&form, &counters, &classes, shape, None);
+                        let minimise =
+                            lp::relaxation(&form, &counters, &classes, shape, None, None, None);
                         tighten(&form, &classes, d, &minimise, &|| false)
                     } else {
                         let minimise = clarabel_relaxation(&form, &classes, mu, d);
@@ -312,10 +316,10 @@ mod tests {
                 drive: None,
             };
             let solved = AtomicUsize::new(0);
-            let minimise = lp::relaxation(&form, &counters, &classes, shape, None);
-            let counted = |objective: &[f64]| {
+            let minimise = lp::relaxation(&form, &counters, &classes, shape, None, None, None);
+            let counted = |key: usize, objective: &[f64]| {
                 solved.fetch_add(1, Ordering::Relaxed);
-                minimise(objective)
+                minimise(key, objective)
             };
             let Some(whole) = tighten(&form, &classes, None, &counted, &|| false) else {
                 continue;
@@ -363,9 +367,25 @@ mod tests {
                 drive: None,
             };
             let never = || false;
-            let once = lp::tighten_node(&form, &counters, &classes, shape, None, false, &never);
-            let settled = lp::tighten_node(&form, &counters, &classes, shape, None, true, &never);
-            let (Some((once, _)), Some((settled, _))) = (once, settled) else {
+            let once = lp::tighten_node(
+                &form,
+                &counters,
+                &classes,
+                shape,
+                Default::default(),
+                false,
+                &never,
+            );
+            let settled = lp::tighten_node(
+                &form,
+                &counters,
+                &classes,
+                shape,
+                Default::default(),
+                true,
+                &never,
+            );
+            let (Some((once, _, _)), Some((settled, _, _))) = (once, settled) else {
                 assert!(rays.is_empty(), "seed {seed}: a root with solutions pruned");
                 continue;
             };

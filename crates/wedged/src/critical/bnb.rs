@@ -198,6 +198,8 @@ struct Node {
     classes: Vec<Class>,
     drive: Option<Arc<Bounds>>,
     warm: Option<Arc<Warm>>,
+    /// The bases the parent's tightening programs ended at (shelved), by program.
+    extremes: Option<Arc<Vec<Option<Warm>>>>,
 }
 
 impl shard::Tree for Search<'_, '_, '_> {
@@ -212,6 +214,7 @@ impl shard::Tree for Search<'_, '_, '_> {
             classes: vec![Class::Free; self.form().m],
             drive: None,
             warm: None,
+            extremes: None,
         }
     }
 
@@ -247,7 +250,9 @@ impl shard::Tree for Search<'_, '_, '_> {
             classes,
             drive,
             warm,
+            extremes,
         } = node;
+        let mut extremes = extremes;
         let m = self.form().m;
         let contact: Vec<usize> = (0..m).filter(|&i| classes[i] == Class::Contact).collect();
         let free: Vec<usize> = (0..m).filter(|&i| classes[i] == Class::Free).collect();
@@ -285,11 +290,17 @@ impl shard::Tree for Search<'_, '_, '_> {
                 &self.lp,
                 &classes,
                 shape,
-                warm.as_deref(),
+                lp::Starts {
+                    warm: warm.as_deref(),
+                    previous: extremes.as_deref().map(|e| &e[..]),
+                },
                 false,
                 &|| self.control.must_stop(0),
             )
-            .map(|(tight, _)| tight);
+            .map(|(tight, _, kept)| {
+                extremes = Some(Arc::new(kept));
+                tight
+            });
             match tight {
                 Some(tight) => {
                     drive = Some(Arc::new(Bounds {
@@ -380,7 +391,7 @@ impl shard::Tree for Search<'_, '_, '_> {
             Decision::Yes { r, .. } => Some(r),
             Decision::Unsure(_) => None,
         };
-        Some(self.branch(classes, witness, &free, drive, warm))
+        Some(self.branch(classes, witness, &free, drive, warm, extremes))
     }
 }
 
@@ -394,6 +405,7 @@ impl Search<'_, '_, '_> {
         free: &[usize],
         drive: Option<Arc<Bounds>>,
         warm: Option<Arc<Warm>>,
+        extremes: Option<Arc<Vec<Option<Warm>>>>,
     ) -> (Node, Node) {
         let branch = match &witness {
             None => free[0],
@@ -441,11 +453,13 @@ impl Search<'_, '_, '_> {
             classes: to_contact,
             drive: drive.clone(),
             warm: warm.clone(),
+            extremes: extremes.clone(),
         };
         let separated = Node {
             classes: to_separated,
             drive,
             warm,
+            extremes,
         };
         if self.dive.load(Ordering::Relaxed) {
             (separated, contact)

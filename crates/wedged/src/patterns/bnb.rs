@@ -84,6 +84,8 @@ struct Node {
     warm: Option<Arc<Warm>>,
     /// The drive bounds known so far (see [`Search::tighten_depth`]).
     drive: Option<Arc<Drive>>,
+    /// The bases the last tightening's programs ended at (shelved), by program.
+    extremes: Option<Arc<Vec<Option<Warm>>>>,
 }
 
 impl shard::Tree for Search<'_, '_> {
@@ -118,6 +120,7 @@ impl shard::Tree for Search<'_, '_> {
             inherited: None,
             warm: None,
             drive: None,
+            extremes: None,
         }
     }
 
@@ -131,6 +134,7 @@ impl shard::Tree for Search<'_, '_> {
             inherited,
             warm,
             drive,
+            mut extremes,
         } = node;
         let m = self.form.m;
         let press: Vec<Entry> = (0..m)
@@ -191,12 +195,15 @@ impl shard::Tree for Search<'_, '_> {
             // The root settles its bounds (3D V-groove plug, m = 20, `enumerate` at 1.2 `mu*`:
             // 25.2k nodes and 3.8 s without, 23.0k and 3.3 s with).
             let settle = depth == 0 && classes.iter().all(|&c| c == Class::Free);
-            let Some((tight, start)) = lp::tighten_node(
+            let Some((tight, start, kept)) = lp::tighten_node(
                 self.form,
                 &self.lp,
                 &classes,
                 shape,
-                warm.as_deref(),
+                lp::Starts {
+                    warm: warm.as_deref(),
+                    previous: extremes.as_deref().map(|e| &e[..]),
+                },
                 settle,
                 &|| self.control.must_stop(0),
             ) else {
@@ -204,6 +211,7 @@ impl shard::Tree for Search<'_, '_> {
                 return None;
             };
             drive = Some(Arc::new(tight));
+            extremes = Some(Arc::new(kept));
             // An inherited solution may break the new cuts: solve again.
             inherited = None;
             warm = start.map(Arc::new).or(warm);
@@ -348,12 +356,14 @@ impl shard::Tree for Search<'_, '_> {
                 inherited: to_contact,
                 warm: warm.clone(),
                 drive: drive.clone(),
+                extremes: extremes.clone(),
             },
             Node {
                 classes: separated,
                 inherited: to_separated,
                 warm,
                 drive,
+                extremes,
             },
         ))
     }

@@ -164,6 +164,8 @@ pub(crate) struct Node {
     inherited: Option<Vec<f64>>,
     warm: Option<Arc<Basis>>,
     drive: Option<Arc<Drive>>,
+    /// The bases the last tightening's programs ended at (shelved), by program.
+    extremes: Option<Arc<Vec<Option<Basis>>>>,
 }
 
 struct Search<'a, 'f> {
@@ -277,6 +279,7 @@ impl shard::Tree for Search<'_, '_> {
             inherited: None,
             warm: None,
             drive: None,
+            extremes: None,
         }
     }
 
@@ -290,6 +293,7 @@ impl shard::Tree for Search<'_, '_> {
             inherited,
             warm,
             drive,
+            mut extremes,
         } = node;
         self.nodes.fetch_add(1, Ordering::Relaxed);
         let m = self.m;
@@ -316,12 +320,15 @@ impl shard::Tree for Search<'_, '_> {
             // without, 214 with; the plug: m = 40 even, m = 50 and up faster).
             let settle =
                 depth == 0 && m >= SETTLE_FROM && classes.iter().all(|&c| c == Class::Free);
-            let Some((tight, start)) = node_lp::tighten_node(
+            let Some((tight, start, kept)) = node_lp::tighten_node(
                 form,
                 counters,
                 &classes,
                 shape,
-                warm.as_deref(),
+                node_lp::Starts {
+                    warm: warm.as_deref(),
+                    previous: extremes.as_deref().map(|e| &e[..]),
+                },
                 settle,
                 &|| self.control.must_stop(0),
             ) else {
@@ -329,6 +336,7 @@ impl shard::Tree for Search<'_, '_> {
                 return None;
             };
             drive = Some(Arc::new(tight));
+            extremes = Some(Arc::new(kept));
             // The inherited solution may break the new cuts: solve again.
             inherited = None;
             warm = start.map(Arc::new);
@@ -435,12 +443,14 @@ impl shard::Tree for Search<'_, '_> {
                 inherited: to_contact,
                 warm: basis.clone(),
                 drive: drive.clone(),
+                extremes: extremes.clone(),
             },
             Node {
                 classes: separated_child,
                 inherited: to_separated,
                 warm: basis,
                 drive,
+                extremes,
             },
         ))
     }
