@@ -500,9 +500,9 @@ pub(crate) struct Starts<'a> {
 /// is the same and the feasible set a little smaller (a node fixed, tighter cuts), so that
 /// basis is nearly optimal: it has no inverse (the cut rows changed) and is refactored, which
 /// costs less than the pivots from the relaxation's basis to the optimum. (Measured on
-/// issue 20's plug, one run each while another run shared the machine: `critical` m = 60
-/// 7.3 -> 4.5 s, m = 80 35.3 -> 26.0 s; `enumerate` m = 60 6.3 -> 4.6 s, 485k -> 338k pivots;
-/// the 3D V-groove m = 20 unchanged.)
+/// issue 20's plug, whole process, paired medians on an idle machine: `critical` m = 60
+/// 4.35 -> 3.76 s, m = 80 19.0 -> 16.7 s; `enumerate` m = 60 3.19 -> 2.54 s (485k -> 338k
+/// pivots), m = 80 24.6 -> 21.1 s; the 3D V-groove at m = 20 unchanged.)
 ///
 /// With `settle`, the tightening is repeated with the cuts of the bounds it found until no
 /// bound interval shrinks by more than [`SETTLED`] of its width (at most [`SETTLE_ROUNDS`]
