@@ -479,6 +479,10 @@ pub(crate) fn relaxation<'a>(
     }
 }
 
+/// The bases the tightening programs of a node ended at ([`tighten_node`]), shelved, by program
+/// key ([`cuts::tighten`]); `None` for a program that has none.
+pub(crate) type Extremes = Vec<Option<Warm>>;
+
 /// Where a tightening ([`tighten_node`]) starts: the node's relaxation from `warm` (the
 /// parent's basis), each tightening program from its own basis in `previous` (by program key)
 /// when there is one.
@@ -518,14 +522,15 @@ pub(crate) fn tighten_node(
     start: Starts,
     settle: bool,
     stop: &(dyn Fn() -> bool + Sync),
-) -> Option<(Drive, Option<Warm>, Vec<Option<Warm>>)> {
+) -> Option<(Drive, Option<Warm>, Extremes)> {
     let Starts { warm, previous } = start;
     let mut known: Option<Arc<Drive>> = shape.drive.cloned();
     let mut warm = warm.cloned();
     let found: Vec<std::sync::Mutex<Option<Warm>>> = (0..2 * form.m)
         .map(|_| std::sync::Mutex::new(None))
         .collect();
-    let mut kept: Vec<Option<Warm>> = previous.map(|p| p.to_vec()).unwrap_or_default();
+    // This tightening's own bases once a round has ended; until then, `previous`'s.
+    let mut kept: Option<Extremes> = None;
     let rounds = if settle { SETTLE_ROUNDS } else { 1 };
     for _ in 0..rounds {
         let round = Shape {
@@ -551,15 +556,22 @@ pub(crate) fn tighten_node(
             classes,
             round,
             start.clone(),
-            (!kept.is_empty()).then_some(&kept[..]),
+            kept.as_deref().or(previous),
             Some(&found[..]),
         );
         let tight = cuts::tighten(form, classes, known.as_deref(), &minimise, stop)?;
         drop(minimise);
-        kept = found
+        // A program not solved this round (a stop, or one Clarabel decided) keeps the basis it
+        // started from.
+        let ended: Extremes = found
             .iter()
-            .map(|f| f.lock().expect("no panics while held").take())
+            .enumerate()
+            .map(|(key, f)| {
+                let own = f.lock().expect("no panics while held").take();
+                own.or_else(|| kept.as_deref().or(previous)?.get(key)?.clone())
+            })
             .collect();
+        kept = Some(ended);
         let shrink = known
             .as_deref()
             .map_or(1.0, |old| cuts::largest_shrink(old, &tight));
@@ -570,7 +582,7 @@ pub(crate) fn tighten_node(
         }
     }
     let tight = known.map(Arc::unwrap_or_clone)?;
-    Some((tight, warm, kept))
+    Some((tight, warm, kept.unwrap_or_default()))
 }
 
 /// A settled tightening ([`tighten_node`]) stops when no bound interval shrinks by more than

@@ -199,7 +199,7 @@ struct Node {
     drive: Option<Arc<Bounds>>,
     warm: Option<Arc<Warm>>,
     /// The bases the parent's tightening programs ended at (shelved), by program.
-    extremes: Option<Arc<Vec<Option<Warm>>>>,
+    extremes: Option<Arc<lp::Extremes>>,
 }
 
 impl shard::Tree for Search<'_, '_, '_> {
@@ -405,7 +405,7 @@ impl Search<'_, '_, '_> {
         free: &[usize],
         drive: Option<Arc<Bounds>>,
         warm: Option<Arc<Warm>>,
-        extremes: Option<Arc<Vec<Option<Warm>>>>,
+        extremes: Option<Arc<lp::Extremes>>,
     ) -> (Node, Node) {
         let branch = match &witness {
             None => free[0],

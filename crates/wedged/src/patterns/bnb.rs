@@ -85,7 +85,7 @@ struct Node {
     /// The drive bounds known so far (see [`Search::tighten_depth`]).
     drive: Option<Arc<Drive>>,
     /// The bases the last tightening's programs ended at (shelved), by program.
-    extremes: Option<Arc<Vec<Option<Warm>>>>,
+    extremes: Option<Arc<lp::Extremes>>,
 }
 
 impl shard::Tree for Search<'_, '_> {

@@ -165,7 +165,7 @@ pub(crate) struct Node {
     warm: Option<Arc<Basis>>,
     drive: Option<Arc<Drive>>,
     /// The bases the last tightening's programs ended at (shelved), by program.
-    extremes: Option<Arc<Vec<Option<Basis>>>>,
+    extremes: Option<Arc<node_lp::Extremes>>,
 }
 
 struct Search<'a, 'f> {
