@@ -26,7 +26,9 @@
 //! warm start's point leaves loose, until the part's point breaks them ([`active`]). The
 //! basic values and the reduced costs are updated at each pivot and recomputed from the
 //! inverse every [`REFRESH`] pivots and before every verdict; a pivot element that the pivot
-//! row and the pivot column disagree on refactors the inverse. Dot products run on eight
+//! row and the pivot column disagree on refactors the inverse. A refactor eliminates on the
+//! basis's structural columns only (a basic row activity is a unit column; `dense::invert`).
+//! Dot products run on eight
 //! partial sums, which the compiler vectorises (on the 2D plug with m = 60 that alone halved
 //! the search's time), and the dense kernels run as compiled for AVX2 where the processor has
 //! it (`dense`).
@@ -141,17 +143,6 @@ impl Lp {
 
     fn total(&self) -> usize {
         self.n + self.rows
-    }
-
-    /// Entry `k` of column `j` of `[A  -I]`.
-    fn entry(&self, k: usize, j: usize) -> f64 {
-        if j < self.n {
-            self.row(k)[j]
-        } else if j - self.n == k {
-            -1.0
-        } else {
-            0.0
-        }
     }
 
     /// `v^T [A  -I]`, all `N` entries.

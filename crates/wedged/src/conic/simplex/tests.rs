@@ -411,3 +411,76 @@ fn loose_rows_are_left_out_and_brought_back_when_broken() {
         "{compared} compared, {left_out} left out, {broken} broken, {back} brought back"
     );
 }
+
+/// `invert` eliminates on the structural columns only: on random bases that mix structural
+/// columns and row activities (unit columns `-e_k`), `B B^-1 = I`; a basis with a singular
+/// structural block, or the same row's activity twice, is refused.
+#[test]
+fn the_inverse_from_the_structural_block_inverts_the_whole_basis() {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let mut checked = 0;
+    for _ in 0..300 {
+        let n = rng.gen_range(1..12);
+        let rows = rng.gen_range(1..12);
+        let mut lp = Lp::new(n, rows);
+        for a in lp.a_mut() {
+            *a = if rng.gen_bool(0.7) {
+                rng.gen_range(-2.0..2.0)
+            } else {
+                0.0
+            };
+        }
+        // A head: a random set of row activities, the rest structural columns.
+        let slacks: Vec<usize> = (0..rows).filter(|_| rng.gen_bool(0.5)).collect();
+        let need = rows - slacks.len();
+        if need > n {
+            continue;
+        }
+        let mut columns: Vec<usize> = (0..n).collect();
+        for i in (1..n).rev() {
+            columns.swap(i, rng.gen_range(0..=i));
+        }
+        let mut head: Vec<usize> = columns[..need].to_vec();
+        head.extend(slacks.iter().map(|k| n + k));
+        for i in (1..head.len()).rev() {
+            head.swap(i, rng.gen_range(0..=i));
+        }
+        let Some(inv) = dense::invert(&lp, &head) else {
+            continue;
+        };
+        // Column c of B is A's column head[c], or -e_k for the activity of row k.
+        let entry = |k: usize, j: usize| {
+            if j < n {
+                lp.row(k)[j]
+            } else if j - n == k {
+                -1.0
+            } else {
+                0.0
+            }
+        };
+        let mut worst = 0.0f64;
+        for k in 0..rows {
+            for l in 0..rows {
+                let bk: f64 = (0..rows)
+                    .map(|c| entry(k, head[c]) * inv[c * rows + l])
+                    .sum();
+                let want = if k == l { 1.0 } else { 0.0 };
+                worst = worst.max((bk - want).abs());
+            }
+        }
+        let size = inv.iter().fold(1.0f64, |a, x| a.max(x.abs()));
+        assert!(
+            worst <= 1e-10 * size,
+            "B B^-1 off by {worst:e} (inverse up to {size:e})"
+        );
+        checked += 1;
+    }
+    assert!(checked > 100, "{checked} bases checked");
+    // A zero structural column: singular.
+    let mut lp = Lp::new(2, 2);
+    lp.a_mut().copy_from_slice(&[1.0, 0.0, 1.0, 0.0]);
+    assert!(dense::invert(&lp, &[0, 1]).is_none());
+    assert!(dense::invert(&lp, &[0, 3]).is_some());
+    // The same row's activity twice.
+    assert!(dense::invert(&lp, &[2, 2]).is_none());
+}
