@@ -6,6 +6,18 @@ use crate::conic::socp::{Affine, Program};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+/// `lp`'s entries at random: each nonzero with probability `dense`, then uniform in
+/// `(-size, size)`.
+fn fill(lp: &mut Lp, rng: &mut ChaCha8Rng, dense: f64, size: f64) {
+    for a in lp.a_mut() {
+        *a = if rng.gen_bool(dense) {
+            rng.gen_range(-size..size)
+        } else {
+            0.0
+        };
+    }
+}
+
 /// A random program shaped like the search's: `n` columns `>= 0` (some fixed at zero),
 /// rows with bounds `[0, inf)`, `[0, 0]`, free or `[1, 1]` / `[1, inf)`, dense entries of
 /// both signs, and a random cost.
@@ -13,13 +25,7 @@ fn random_lp(rng: &mut ChaCha8Rng) -> Lp {
     let n = rng.gen_range(2..10);
     let rows = rng.gen_range(1..10);
     let mut lp = Lp::new(n, rows);
-    for a in lp.a_mut() {
-        *a = if rng.gen_bool(0.8) {
-            rng.gen_range(-1.0..1.0)
-        } else {
-            0.0
-        };
-    }
+    fill(&mut lp, rng, 0.8, 1.0);
     for j in 0..n {
         lp.lo[j] = 0.0;
         lp.hi[j] = match rng.gen_range(0..6) {
@@ -423,13 +429,7 @@ fn the_inverse_from_the_structural_block_inverts_the_whole_basis() {
         let n = rng.gen_range(1..12);
         let rows = rng.gen_range(1..12);
         let mut lp = Lp::new(n, rows);
-        for a in lp.a_mut() {
-            *a = if rng.gen_bool(0.7) {
-                rng.gen_range(-2.0..2.0)
-            } else {
-                0.0
-            };
-        }
+        fill(&mut lp, &mut rng, 0.7, 2.0);
         // A head: a random set of row activities, the rest structural columns.
         let slacks: Vec<usize> = (0..rows).filter(|_| rng.gen_bool(0.5)).collect();
         let need = rows - slacks.len();
