@@ -145,6 +145,19 @@ impl Lp {
         self.n + self.rows
     }
 
+    /// Entry `k` of column `j` of `[A  -I]` (the tests' view of a basis column; the method
+    /// itself reads rows).
+    #[cfg(test)]
+    fn entry(&self, k: usize, j: usize) -> f64 {
+        if j < self.n {
+            self.row(k)[j]
+        } else if j - self.n == k {
+            -1.0
+        } else {
+            0.0
+        }
+    }
+
     /// `v^T [A  -I]`, all `N` entries.
     fn row_times(&self, v: &[f64]) -> Vec<f64> {
         let n = self.n;

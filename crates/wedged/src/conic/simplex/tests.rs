@@ -448,21 +448,11 @@ fn the_inverse_from_the_structural_block_inverts_the_whole_basis() {
         let Some(inv) = dense::invert(&lp, &head) else {
             continue;
         };
-        // Column c of B is A's column head[c], or -e_k for the activity of row k.
-        let entry = |k: usize, j: usize| {
-            if j < n {
-                lp.row(k)[j]
-            } else if j - n == k {
-                -1.0
-            } else {
-                0.0
-            }
-        };
         let mut worst = 0.0f64;
         for k in 0..rows {
             for l in 0..rows {
                 let bk: f64 = (0..rows)
-                    .map(|c| entry(k, head[c]) * inv[c * rows + l])
+                    .map(|c| lp.entry(k, head[c]) * inv[c * rows + l])
                     .sum();
                 let want = if k == l { 1.0 } else { 0.0 };
                 worst = worst.max((bk - want).abs());
