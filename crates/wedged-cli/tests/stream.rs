@@ -82,8 +82,9 @@ fn a_3d_mesh_streams_the_pieces_of_bnb() {
 #[test]
 fn a_stopped_run_has_written_what_it_found() {
     let dir = tempfile::tempdir().unwrap();
-    // The 2D plug with m = 60 takes 2.5 s on the 2-core machine (m = 50, 1 s, came in under
-    // a limit of 1 s once the search was faster): stopped at 0.5 s, well before its end.
+    // The 2D plug with m = 60 takes about 2 to 2.5 s on the 2-core machine (m = 50, 1 s, came
+    // in under a limit of 1 s once the search was faster): stopped at 0.5 s, well before its
+    // end.
     let plug = std::fs::read_to_string(example("plug2d.toml"))
         .unwrap()
         .replace("nx = 8", "nx = 30")
