@@ -518,7 +518,7 @@ pub fn injected_fault() -> Result<Option<wedged::Fault>, Failure> {
         Err(_) => Ok(None),
         Ok(name) => wedged::Fault::parse(&name).map(Some).ok_or_else(|| {
             Failure::Input(format!(
-                "WEDGED_INJECT_FAULT={name:?} is not a known fault (corrupt-witness, halt-after-pass)"
+                "WEDGED_INJECT_FAULT={name:?} is not a known fault (corrupt-witness, halt-after-pass, settle-root)"
             ))
         }),
     }

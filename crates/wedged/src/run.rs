@@ -35,14 +35,19 @@ pub enum Fault {
     /// has finished without a wedged configuration at or below that bar: at a reproducible
     /// point where an incomplete run has a lower end to report.
     HaltAfterPass,
+    /// Not a fault: the `bnb` search of `mu*` settles its root's drive bounds on a 2D problem
+    /// of any size (in use only from `SETTLE_FROM` nodes on, `critical/bnb.rs`), so that the
+    /// tests see that path on problems small enough to check by brute force.
+    SettleRoot,
 }
 
 impl Fault {
-    /// The fault named `name` (`corrupt-witness`, `halt-after-pass`), if any.
+    /// The fault named `name` (`corrupt-witness`, `halt-after-pass`, `settle-root`), if any.
     pub fn parse(name: &str) -> Option<Fault> {
         match name {
             "corrupt-witness" => Some(Fault::CorruptWitness),
             "halt-after-pass" => Some(Fault::HaltAfterPass),
+            "settle-root" => Some(Fault::SettleRoot),
             _ => None,
         }
     }

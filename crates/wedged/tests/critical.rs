@@ -603,25 +603,37 @@ fn assert_brackets_agree(c: &Critical, other: &Critical, whose: &str, what: &str
 
 /// The default `bnb` (not certified: it prunes with the drive cuts of `critical/cuts.rs`)
 /// against the certified runs of every random case, which prune without them: the same status,
-/// the same `mu*`, brackets that overlap, and a witness checked here.
+/// the same `mu*`, brackets that overlap, and a witness checked here. Each case runs twice:
+/// as in use, and with the root's bounds settled (`Fault::SettleRoot`; in use only from 60
+/// nodes on, so the random cases would not see it otherwise).
 #[test]
 fn bnb_with_drive_cuts_agrees_with_certified_runs() {
-    let mut tightenings = 0;
+    let (mut tightenings, mut settled) = (0, 0);
     for case in cases() {
-        let what = format!("{}, bnb with cuts", case.name());
-        let c = critical(&case.problem, &CriticalSettings::default()).unwrap();
-        tightenings += c.info.bound_tightenings;
-        let certified = &case.results[0].1;
-        assert_eq!(c.status, certified.status, "{what}");
-        if c.status != CriticalStatus::Wedged {
-            continue;
-        }
-        check_witness(&case.problem, &c, &what);
-        for (method, other) in &case.results {
-            assert_brackets_agree(&c, other, &format!("{method}'s"), &what);
+        for fault in [None, Some(wedged::Fault::SettleRoot)] {
+            let what = format!("{}, bnb with cuts, {fault:?}", case.name());
+            let settings = CriticalSettings {
+                fault,
+                ..CriticalSettings::default()
+            };
+            let c = critical(&case.problem, &settings).unwrap();
+            tightenings += c.info.bound_tightenings;
+            if fault.is_some() && case.dim == 2 {
+                settled += c.info.bound_tightenings.min(1);
+            }
+            let certified = &case.results[0].1;
+            assert_eq!(c.status, certified.status, "{what}");
+            if c.status != CriticalStatus::Wedged {
+                continue;
+            }
+            check_witness(&case.problem, &c, &what);
+            for (method, other) in &case.results {
+                assert_brackets_agree(&c, other, &format!("{method}'s"), &what);
+            }
         }
     }
-    assert!(tightenings > 50, "{tightenings} bound tightenings");
+    assert!(tightenings > 100, "{tightenings} bound tightenings");
+    assert!(settled > 20, "{settled} 2D runs with a settled root");
 }
 
 /// The 3D `bnb` without `--certify` decides its inner nodes on an outer polyhedral relaxation of
@@ -669,12 +681,23 @@ fn simplex_search_agrees_with_the_certified_search_on_the_plugs() {
         // the incumbent first, and a run now and then met a program the simplex method left to
         // Clarabel (one fallback of 1,378 programs on the 16 x 12 plug, in one CI run of three),
         // which the assertion below counts.
-        let fast = rayon::ThreadPoolBuilder::new()
-            .num_threads(1)
-            .build()
-            .unwrap()
-            .install(|| critical(&problem, &CriticalSettings::default()))
-            .unwrap();
+        let one_thread = |settings: &CriticalSettings| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(1)
+                .build()
+                .unwrap()
+                .install(|| critical(&problem, settings))
+                .unwrap()
+        };
+        let fast = one_thread(&CriticalSettings::default());
+        // The root's bounds settled (in use from 60 nodes on): the same `mu*`.
+        let settled = one_thread(&CriticalSettings {
+            fault: Some(wedged::Fault::SettleRoot),
+            ..CriticalSettings::default()
+        });
+        assert_eq!(settled.status, CriticalStatus::Wedged, "{what}, settled");
+        check_witness(&problem, &settled, &what);
+        assert_brackets_agree(&settled, &fast, "the unsettled run's", &what);
         let certified = solve(&problem, CriticalMethod::Bnb, &what);
         assert_eq!(fast.status, CriticalStatus::Wedged, "{what}");
         assert_eq!(certified.status, CriticalStatus::Wedged, "{what}");

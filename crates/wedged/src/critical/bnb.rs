@@ -20,7 +20,9 @@
 //! **Drive cuts (not certified).** Nodes down to [`TIGHTEN_DEPTH`] (deeper on larger
 //! problems) bound the drive of their undecided nodes (again down to [`RETIGHTEN_DEPTH`] when
 //! the incumbent has dropped since), and every program below carries the cuts those bounds
-//! give ([`crate::conic::cuts`]): a node that presses must not be driven open. The program then also
+//! give ([`crate::conic::cuts`]): a node that presses must not be driven open. From
+//! [`SETTLE_FROM`] nodes on (2D), the root repeats its tightening with its own cuts until the
+//! bounds settle, as the enumeration's search does. The program then also
 //! minimises the undecided nodes' total gap and pressure, so that its point is a vertex rather
 //! than a central one. On
 //! the 2D plug this cuts the tree by 10x to 50x and the time by 3x to 8x (`BENCHMARKS.md`). In
@@ -45,7 +47,7 @@ use super::improve::{all_contact, improve};
 use super::{CriticalInfo, CriticalProgress, Ctx, Found, Leaf};
 use crate::conic::cuts::Drive;
 use crate::conic::node_lp::{self as lp, LpCounters, Shape, Warm};
-use crate::conic::program::{Class, Decision, Formulation, Goal, Norm};
+use crate::conic::program::{leaf_classes, Class, Decision, Formulation, Goal, Norm};
 use crate::patterns::Undecided;
 use crate::run::{Control, Stop};
 use crate::shard::{self, Explored, Shard, Walk};
@@ -68,6 +70,22 @@ const TIGHTEN_PER_DEPTH: usize = 20;
 /// down to [`RETIGHTEN_DEPTH`] tighten them again at the current level.
 const STALE: f64 = 1e-4;
 const RETIGHTEN_DEPTH: usize = 8;
+
+/// The root settles its drive bounds ([`lp::tighten_node`]) on 2D problems of this many nodes
+/// or more. (Measured on the 2D plug, `farm-bench --vs`, paired wall medians against the root
+/// tightened once: m = 20 1.10, m = 40 1.06, m = 60 1.03, m = 70 0.48, m = 80 0.35, m = 100
+/// about 0.26, one run: 84 s against 22 s.)
+const SETTLE_FROM: usize = 60;
+
+/// The test hooks of a run ([`crate::run::Fault`]).
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct Hooks {
+    /// Stop as an interruption would after the first pass that finds no leaf at or below its
+    /// bar ([`crate::run::Fault::HaltAfterPass`]).
+    pub halt: bool,
+    /// Settle the root's bounds whatever the problem's size ([`crate::run::Fault::SettleRoot`]).
+    pub settle_always: bool,
+}
 
 /// Drive bounds and the level they hold at.
 struct Bounds {
@@ -97,6 +115,12 @@ struct Search<'a, 'b, 'c> {
     /// rigid amplitudes).
     cut: bool,
     tightened: AtomicU64,
+    /// 2D problems of this many nodes or more settle the root's bounds ([`SETTLE_FROM`]).
+    settle_from: usize,
+    /// The root's settled drive bounds, with the level they hold at (as `f64` bits) and the
+    /// bases its tightening programs ended at: a pass at the same level starts from them.
+    #[allow(clippy::type_complexity)]
+    settled: Mutex<Option<(u64, Arc<Drive>, Arc<lp::Extremes>)>>,
     /// The simplex method's counts (the programs of a search with drive cuts).
     lp: LpCounters,
     /// The problem's symmetries ([`crate::Problem::symmetries`]), none in a certified run.
@@ -283,29 +307,55 @@ impl shard::Tree for Search<'_, '_, '_> {
                 mu: level,
                 drive: known,
             };
-            // Not settled at the root: on the 2D plug at m = 60 and 80 the tree was the same
-            // (12.5k, 28.5k nodes), on the 3D V-groove at m = 20 1.4 s became 1.6 s.
-            let tight = lp::tighten_node(
-                self.form(),
-                &self.lp,
-                &classes,
-                shape,
-                lp::Starts {
-                    warm: warm.as_deref(),
-                    previous: extremes.as_deref().map(|e| &e[..]),
-                },
-                false,
-                &|| self.control.must_stop(0),
-            )
-            .map(|(tight, _, kept)| {
-                extremes = Some(Arc::new(kept));
-                tight
-            });
+            // The root of a 2D search settles its bounds (the tightening repeated with its own
+            // cuts, `lp::tighten_node`), and every node inherits them: on the 2D plug at m =
+            // 80 the tree went from 71k nodes to 6.8k and the run from 12.6 s to 6.1 s, at
+            // m = 100 from 427k nodes to 27k and 84 s to 22 s (`BENCHMARKS.md`). (Measured
+            // before loose rows were left out of the node programs, on 2026-11-26, the tree
+            // at m = 60 and 80 had been the same.) Not in 3D: on the V-groove at m = 20, 1.4
+            // s became 1.6 s. A root settled at the same level before (the dive's, when it
+            // found no leaf) is taken as it is.
+            let root = depth == 0 && classes.iter().all(|&c| c == Class::Free);
+            let settle = root && self.form().dim == 2 && self.form().m >= self.settle_from;
+            let cached = self
+                .settled
+                .lock()
+                .ok()
+                .and_then(|c| c.clone())
+                .filter(|c| root && c.0 == level.to_bits());
+            let tight = match cached {
+                Some((_, tight, kept)) => {
+                    extremes = Some(kept);
+                    Some(tight)
+                }
+                None => lp::tighten_node(
+                    self.form(),
+                    &self.lp,
+                    &classes,
+                    shape,
+                    lp::Starts {
+                        warm: warm.as_deref(),
+                        previous: extremes.as_deref().map(|e| &e[..]),
+                    },
+                    settle,
+                    &|| self.control.must_stop(0),
+                )
+                .map(|(tight, _, kept)| {
+                    let (tight, kept) = (Arc::new(tight), Arc::new(kept));
+                    if settle && !self.control.must_stop(0) {
+                        if let Ok(mut c) = self.settled.lock() {
+                            *c = Some((level.to_bits(), tight.clone(), kept.clone()));
+                        }
+                    }
+                    extremes = Some(kept);
+                    tight
+                }),
+            };
             match tight {
                 Some(tight) => {
                     drive = Some(Arc::new(Bounds {
                         level,
-                        drive: Arc::new(tight),
+                        drive: tight,
                     }))
                 }
                 None => {
@@ -362,7 +412,11 @@ impl shard::Tree for Search<'_, '_, '_> {
                     self.pruned.fetch_add(1, Ordering::Relaxed);
                 }
                 Decision::Unsure(why) => self.undecided(set, why),
-                Decision::Yes { r, .. } => match self.ctx.exact_point(&set, &r, level) {
+                Decision::Yes { r, .. } => match self
+                    .ctx
+                    .exact_point(&set, &r, level)
+                    .or_else(|| self.point_above(&set, level))
+                {
                     None => self.undecided(
                         set,
                         "the solver's point could not be made an exact solution".into(),
@@ -396,6 +450,28 @@ impl shard::Tree for Search<'_, '_, '_> {
 }
 
 impl Search<'_, '_, '_> {
+    /// An exact point of the leaf of `set` from a little above `level` (`1e-7` to `1e-4`
+    /// relative), for a leaf whose solver point at `level` could not be made exact: a leaf
+    /// whose threshold lies within the solver's resolution of the level (the best leaf, met
+    /// again at `incumbent (1 - tol)`) has a point there that is feasible only within
+    /// tolerances. Its threshold, computed from the point above, then decides it: refuted at
+    /// the level (certified), or a leaf with its own bracket. (On the 2D plug at m = 100 with
+    /// shallower tightening, the best leaf came out undecided this way and the run
+    /// incomplete.)
+    fn point_above(&self, set: &[bool], level: f64) -> Option<(f64, Vec<f64>)> {
+        let classes = leaf_classes(set);
+        (1..=4).find_map(|k| {
+            let at = level * (1.0 + 10f64.powi(k - 8));
+            match self
+                .form()
+                .decide_at(&classes, at, Norm::Sum, Goal::Feasible)
+            {
+                Decision::Yes { r, .. } => self.ctx.exact_point(set, &r, at),
+                _ => None,
+            }
+        })
+    }
+
     /// The children of a node: the free node whose relaxed solution breaks complementarity
     /// most, in contact and separated.
     fn branch(
@@ -493,17 +569,20 @@ fn bars(mu: f64) -> Vec<f64> {
     out
 }
 
-/// Runs the search; progress is reported from the calling thread every 200 ms. `halt`: stop
-/// as an interruption would after the first pass that finds no leaf at or below its bar
-/// ([`crate::run::Fault::HaltAfterPass`], a test hook).
+/// Runs the search; progress is reported from the calling thread every 200 ms. `hooks`: the
+/// tests' ([`Hooks`]), none in use.
 pub(super) fn run(
     ctx: &Ctx,
     info: &mut CriticalInfo,
     shard: Option<Shard>,
     progress: &dyn Fn(CriticalProgress),
     control: &Control,
-    halt: bool,
+    hooks: Hooks,
 ) -> Found {
+    let Hooks {
+        halt,
+        settle_always,
+    } = hooks;
     let search = Search {
         ctx,
         control,
@@ -518,6 +597,8 @@ pub(super) fn run(
         simplex: ctx.form.refutations.is_none(),
         cut: ctx.form.refutations.is_none() && ctx.form.modes == 0,
         tightened: AtomicU64::new(0),
+        settle_from: if settle_always { 0 } else { SETTLE_FROM },
+        settled: Mutex::new(None),
         lp: LpCounters::default(),
         // Not in a certified run: the subtrees it skips have no refutation to check.
         mirrors: if ctx.form.refutations.is_none() {

@@ -121,7 +121,14 @@ pub(super) fn run(
     info.patterns_enumerated = pieces.len() as u64;
     if pieces.is_empty() {
         info.mu_enumerated = None;
-        return Ok(super::bnb::run(ctx, info, None, progress, control, false));
+        return Ok(super::bnb::run(
+            ctx,
+            info,
+            None,
+            progress,
+            control,
+            Default::default(),
+        ));
     }
     let mut found = Found {
         lower: f64::INFINITY,

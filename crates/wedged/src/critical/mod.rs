@@ -375,8 +375,11 @@ pub fn critical_with_control(
     } else {
         match settings.method {
             CriticalMethod::Bnb => {
-                let halt = settings.fault == Some(Fault::HaltAfterPass);
-                bnb::run(&ctx, &mut info, settings.shard, progress, &control, halt)
+                let hooks = bnb::Hooks {
+                    halt: settings.fault == Some(Fault::HaltAfterPass),
+                    settle_always: settings.fault == Some(Fault::SettleRoot),
+                };
+                bnb::run(&ctx, &mut info, settings.shard, progress, &control, hooks)
             }
             CriticalMethod::Faces => faces::run(&ctx, &mut info, progress, &control),
             CriticalMethod::Enumerate => {
