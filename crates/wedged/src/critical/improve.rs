@@ -281,7 +281,7 @@ fn bisect(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use std::sync::atomic::AtomicBool;
 
     use super::*;
@@ -293,7 +293,11 @@ mod tests {
     /// The least `mu` at which the leaf of `contact` has a solution, by bisection on its cone
     /// program (neither the simplex method nor Dinkelbach's steps); `None` when it has none at
     /// `cap`.
-    fn threshold(form: &Formulation, contact: &[bool], cap: f64) -> Option<f64> {
+    pub(in crate::critical) fn threshold(
+        form: &Formulation,
+        contact: &[bool],
+        cap: f64,
+    ) -> Option<f64> {
         let classes = leaf_classes(contact);
         let feasible = |mu: f64| {
             matches!(
@@ -316,7 +320,7 @@ mod tests {
         Some(hi)
     }
 
-    fn set(mask: usize, m: usize) -> Vec<bool> {
+    pub(in crate::critical) fn set(mask: usize, m: usize) -> Vec<bool> {
         (0..m).map(|i| mask >> i & 1 == 1).collect()
     }
 
