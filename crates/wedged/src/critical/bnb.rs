@@ -43,13 +43,14 @@
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
+use super::edge::point_above;
 use super::improve::{all_contact, improve};
 use super::{CriticalInfo, CriticalProgress, Ctx, Found, Leaf};
 use crate::conic::cuts::Drive;
 use crate::conic::node_lp::{self as lp, LpCounters, Shape, Warm};
-use crate::conic::program::{leaf_classes, Class, Decision, Formulation, Goal, Norm};
+use crate::conic::program::{Class, Decision, Formulation, Goal, Norm};
 use crate::patterns::Undecided;
-use crate::run::{Control, Stop};
+use crate::run::{Control, Fault, Stop};
 use crate::shard::{self, Explored, Shard, Walk};
 
 /// Search nodes down to this depth, or to `m /` [`TIGHTEN_PER_DEPTH`] when that is deeper,
@@ -85,6 +86,16 @@ pub(super) struct Hooks {
     pub halt: bool,
     /// Settle the root's bounds whatever the problem's size ([`crate::run::Fault::SettleRoot`]).
     pub settle_always: bool,
+}
+
+impl Hooks {
+    /// The hooks a run's injected fault asks for.
+    pub(super) fn of(fault: Option<Fault>) -> Hooks {
+        Hooks {
+            halt: fault == Some(Fault::HaltAfterPass),
+            settle_always: fault == Some(Fault::SettleRoot),
+        }
+    }
 }
 
 /// Drive bounds and the level they hold at.
@@ -523,24 +534,6 @@ impl Search<'_, '_, '_> {
     }
 }
 
-/// An exact point of the leaf of `set` from a little above `level` (`1e-7` to `1e-4`
-/// relative), for a leaf whose solver point at `level` could not be made exact: a leaf whose
-/// threshold lies within the solver's resolution of the level (the best leaf, met again at
-/// `incumbent (1 - tol)`) has a point there that is feasible only within tolerances. Its
-/// threshold, computed from the point above, then decides it: refuted at the level
-/// (certified), or a leaf with its own bracket. (On the 2D plug at m = 100 with shallower
-/// tightening, the best leaf came out undecided this way and the run incomplete.)
-fn point_above(ctx: &Ctx, set: &[bool], level: f64) -> Option<(f64, Vec<f64>)> {
-    let classes = leaf_classes(set);
-    (1..=4).find_map(|k| {
-        let at = level * (1.0 + 10f64.powi(k - 8));
-        match ctx.form.decide_at(&classes, at, Norm::Sum, Goal::Feasible) {
-            Decision::Yes { r, .. } => ctx.exact_point(set, &r, at),
-            _ => None,
-        }
-    })
-}
-
 /// The first leaf's dive (see [`run`]) gives up after this many nodes per contact node.
 const DIVE_NODES_PER_NODE: u64 = 10;
 
@@ -727,85 +720,5 @@ pub(super) fn run(
         stop: None,
         shard: split,
         proved: proved(proved_bits.into_inner()),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use std::sync::atomic::AtomicBool;
-
-    use super::*;
-    use crate::critical::improve::tests::{set, threshold};
-    use crate::critical::Tally;
-    use crate::examples::random_spd_problem_dim;
-    use crate::run::Limits;
-
-    /// Every leaf of small random 2D and 3D problems, met just below its threshold `theta`
-    /// (bisection on its cone program): the point from above is an exact solution of the leaf
-    /// (contact gaps closed, the rest open, no pull, `sum r_n = 1`) whose ratio lies between
-    /// `theta` and the highest level tried, and the threshold computed from it refutes the
-    /// leaf at the level or brackets `theta`.
-    #[test]
-    fn a_leaf_just_below_its_threshold_is_decided_from_above() {
-        const CAP: f64 = 20.0;
-        let cancel = AtomicBool::new(false);
-        let control = Control::new(Limits::default(), &cancel);
-        let (mut leaves, mut refuted) = (0, 0);
-        for case in 0..16u64 {
-            let dim = 2 + (case % 2) as usize;
-            let m = 2 + (case % 4) as usize;
-            let problem = random_spd_problem_dim(dim, m, 1.0, 700 + case);
-            let form = Formulation::new(&problem);
-            let ctx = Ctx {
-                form: &form,
-                tol: 1e-9,
-                tally: Tally::default(),
-            };
-            for mask in 1..1usize << m {
-                let contact = set(mask, m);
-                let Some(theta) = threshold(&form, &contact, CAP) else {
-                    continue;
-                };
-                let what = format!("case {case} (dim {dim}, m {m}), set {mask:b}, theta {theta}");
-                let level = theta * (1.0 - 1e-9);
-                let Some((t, p)) = point_above(&ctx, &contact, level) else {
-                    panic!("{what}: no exact point from above");
-                };
-                leaves += 1;
-                assert!(t >= theta * (1.0 - 1e-6), "{what}: ratio {t} below it");
-                assert!(
-                    t <= level * (1.0 + 1e-4) * (1.0 + 1e-6),
-                    "{what}: ratio {t}"
-                );
-                let total: f64 = (0..m).map(|i| p[dim * i]).sum();
-                assert!((total - 1.0).abs() <= 1e-12, "{what}: sum r_n = {total}");
-                for i in 0..m {
-                    let gap = form.gap_of(&p, i);
-                    if contact[i] {
-                        // (A negligible pressure is dropped: `r = 0`, the gap still closed.)
-                        assert!(gap.abs() <= 1e-9, "{what}: node {i}'s gap {gap}");
-                        assert!(p[dim * i] >= 0.0, "{what}: node {i} pulls");
-                    } else {
-                        assert!(gap >= -1e-12, "{what}: node {i}'s gap {gap}");
-                        assert!(p[dim * i..dim * i + dim].iter().all(|&x| x == 0.0));
-                    }
-                }
-                match ctx.leaf_threshold(&contact, t, p, &control, &|| level) {
-                    Ok(None) => refuted += 1,
-                    Ok(Some(leaf)) => assert!(
-                        leaf.lower <= theta * (1.0 + 1e-6) && leaf.theta >= theta * (1.0 - 1e-6),
-                        "{what}: [{}, {}]",
-                        leaf.lower,
-                        leaf.theta
-                    ),
-                    Err(why) => panic!("{what}: {why}"),
-                }
-            }
-        }
-        // (Seen: 67 of 173 refuted at the level, the others brackets of `tol` holding theta.)
-        assert!(
-            leaves >= 100 && refuted >= 30,
-            "{refuted} of {leaves} refuted"
-        );
     }
 }

@@ -47,6 +47,7 @@
 
 mod bnb;
 pub mod certify;
+mod edge;
 mod enumerate;
 mod faces;
 mod improve;
@@ -375,10 +376,7 @@ pub fn critical_with_control(
     } else {
         match settings.method {
             CriticalMethod::Bnb => {
-                let hooks = bnb::Hooks {
-                    halt: settings.fault == Some(Fault::HaltAfterPass),
-                    settle_always: settings.fault == Some(Fault::SettleRoot),
-                };
+                let hooks = bnb::Hooks::of(settings.fault);
                 bnb::run(&ctx, &mut info, settings.shard, progress, &control, hooks)
             }
             CriticalMethod::Faces => faces::run(&ctx, &mut info, progress, &control),
