@@ -74,8 +74,8 @@ const RETIGHTEN_DEPTH: usize = 8;
 
 /// The root settles its drive bounds ([`lp::tighten_node`]) on 2D problems of this many nodes
 /// or more. (Measured on the 2D plug, `farm-bench --vs`, paired wall medians against the root
-/// tightened once: m = 20 1.10, m = 40 1.06, m = 60 1.03, m = 70 0.48, m = 80 0.35, m = 100
-/// about 0.26, one run: 84 s against 22 s.)
+/// tightened once: m = 20 1.10, m = 40 1.06, m = 60 1.03, m = 70 0.48, m = 80 0.41; m = 100,
+/// one run each, 83.8 s against 23.4 s.)
 const SETTLE_FROM: usize = 60;
 
 /// The test hooks of a run ([`crate::run::Fault`]).
@@ -320,8 +320,8 @@ impl shard::Tree for Search<'_, '_, '_> {
             };
             // The root of a 2D search settles its bounds (the tightening repeated with its own
             // cuts, `lp::tighten_node`), and every node inherits them: on the 2D plug at m =
-            // 80 the tree went from 71k nodes to 6.8k and the run from 12.6 s to 6.1 s, at
-            // m = 100 from 427k nodes to 27k and 84 s to 22 s (`BENCHMARKS.md`). (Measured
+            // 80 the tree went from 72k nodes to 7.1k and the run from 13.3 s to 5.4 s, at
+            // m = 100 from 427k nodes to 30k and 84 s to 23 s (`BENCHMARKS.md`). (Measured
             // before loose rows were left out of the node programs, on 2026-11-26, the tree
             // at m = 60 and 80 had been the same.) Not in 3D: on the V-groove at m = 20, 1.4
             // s became 1.6 s. A root settled at the same level before (the dive's, when it

@@ -35,8 +35,7 @@ mod tests {
     use crate::critical::improve::tests::{set, threshold};
     use crate::critical::Tally;
     use crate::examples::random_spd_problem_dim;
-    use crate::run::Control;
-    use crate::run::Limits;
+    use crate::run::{Control, Limits};
 
     /// Every leaf of small random 2D and 3D problems, met just below its threshold `theta`
     /// (bisection on its cone program): the point from above is an exact solution of the leaf
