@@ -32,8 +32,7 @@ mod tests {
 
     use super::*;
     use crate::conic::program::Formulation;
-    use crate::critical::improve::tests::{set, threshold};
-    use crate::critical::Tally;
+    use crate::critical::improve::tests::{ctx, set, threshold};
     use crate::examples::random_spd_problem_dim;
     use crate::run::{Control, Limits};
 
@@ -53,11 +52,7 @@ mod tests {
             let m = 2 + (case % 4) as usize;
             let problem = random_spd_problem_dim(dim, m, 1.0, 700 + case);
             let form = Formulation::new(&problem);
-            let ctx = Ctx {
-                form: &form,
-                tol: 1e-9,
-                tally: Tally::default(),
-            };
+            let ctx = ctx(&form);
             for mask in 1..1usize << m {
                 let contact = set(mask, m);
                 let Some(theta) = threshold(&form, &contact, CAP) else {

@@ -320,6 +320,15 @@ pub(super) mod tests {
         Some(hi)
     }
 
+    /// The context of the tests' runs: `tol` 1e-9, a fresh tally.
+    pub(in crate::critical) fn ctx<'a, 'b>(form: &'a Formulation<'b>) -> Ctx<'a, 'b> {
+        Ctx {
+            form,
+            tol: 1e-9,
+            tally: Tally::default(),
+        }
+    }
+
     pub(in crate::critical) fn set(mask: usize, m: usize) -> Vec<bool> {
         (0..m).map(|i| mask >> i & 1 == 1).collect()
     }
@@ -338,11 +347,7 @@ pub(super) mod tests {
             let m = 2 + (case % 5) as usize;
             let problem = random_spd_problem_dim(dim, m, 1.0, 500 + case);
             let form = Formulation::new(&problem);
-            let ctx = Ctx {
-                form: &form,
-                tol: 1e-9,
-                tally: Tally::default(),
-            };
+            let ctx = ctx(&form);
             let all = vec![true; m];
             let own = threshold(&form, &all, 64.0 * BAR);
             let mu_star = (1..1usize << m)
@@ -391,11 +396,7 @@ pub(super) mod tests {
             let m = 3 + (case % 4) as usize;
             let problem = random_spd_problem_dim(dim, m, 1.0, 300 + case);
             let form = Formulation::new(&problem);
-            let ctx = Ctx {
-                form: &form,
-                tol: 1e-9,
-                tally: Tally::default(),
-            };
+            let ctx = ctx(&form);
             let thresholds: Vec<Option<f64>> = (0..1usize << m)
                 .map(|mask| {
                     (mask > 0)
