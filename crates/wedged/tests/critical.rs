@@ -690,7 +690,7 @@ fn simplex_search_agrees_with_the_certified_search_on_the_plugs() {
                 .unwrap()
         };
         let fast = one_thread(&CriticalSettings::default());
-        // The root's bounds settled (in use from 60 nodes on): the same `mu*`.
+        // The root's bounds settled (in use from 24 nodes on): the same `mu*`.
         let settled = one_thread(&CriticalSettings {
             fault: Some(wedged::Fault::SettleRoot),
             ..CriticalSettings::default()

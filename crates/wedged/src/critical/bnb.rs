@@ -17,12 +17,13 @@
 //! node pressed; its threshold ([`super::Ctx::leaf_threshold`]) is below the incumbent and
 //! replaces it. Subtrees run in parallel (`rayon::join`) and share the incumbent.
 //!
-//! **Drive cuts (not certified).** Nodes down to [`TIGHTEN_DEPTH`] (deeper on larger
-//! problems) bound the drive of their undecided nodes (again down to [`RETIGHTEN_DEPTH`] when
+//! **Drive cuts (not certified).** Nodes down to [`TIGHTEN_DEPTH`] (deeper on larger 3D
+//! problems, [`SETTLED_TIGHTEN_DEPTH`] below a settled root) bound the drive of their undecided nodes (again down to [`RETIGHTEN_DEPTH`] when
 //! the incumbent has dropped since), and every program below carries the cuts those bounds
 //! give ([`crate::conic::cuts`]): a node that presses must not be driven open. From
 //! [`SETTLE_FROM`] nodes on (2D), the root repeats its tightening with its own cuts until the
-//! bounds settle, as the enumeration's search does. The program then also
+//! bounds settle, as the enumeration's search does; the dive's settled root, rounded, gives
+//! the run's first leaf ([`ROUNDED`]). The program then also
 //! minimises the undecided nodes' total gap and pressure, so that its point is a vertex rather
 //! than a central one. On
 //! the 2D plug this cuts the tree by 10x to 50x and the time by 3x to 8x (`BENCHMARKS.md`). In
@@ -44,7 +45,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use super::edge::point_above;
-use super::improve::{all_contact, improve};
+use super::improve::{all_contact, improve, leaf_of};
 use super::{CriticalInfo, CriticalProgress, Ctx, Found, Leaf};
 use crate::conic::cuts::Drive;
 use crate::conic::node_lp::{self as lp, LpCounters, Shape, Warm};
@@ -53,18 +54,22 @@ use crate::patterns::Undecided;
 use crate::run::{Control, Fault, Stop};
 use crate::shard::{self, Explored, Shard, Walk};
 
-/// Search nodes down to this depth, or to `m /` [`TIGHTEN_PER_DEPTH`] when that is deeper,
-/// tighten the bounds of their undecided nodes' drives ([`cuts::tighten`]); deeper ones
-/// inherit them. Deeper tightening visits fewer nodes but solves more programs; the best depth
-/// grows with the problem. (Measured on the 2D plug with the simplex method, problem `mu` 2:
-/// m = 40, depths 4, 5: 0.78, 1.35 s; m = 60, depths 3, 4, 5, 6: 13.0, 8.9, 8.7, 10.5 s
-/// (74k, 31k, 16k, 7.8k nodes); m = 80, depths 4, 5, 6, 8: 85, 46, 44, 137 s (278k, 107k,
-/// 52k, 24k nodes). With Clarabel, at m = 40, depths 2, 4, 6, 8 took 52, 30, 33, 35 s. Since
-/// a node's program leaves its loose rows out (2026-11-27, `conic/simplex/active.rs`), nodes
-/// are cheaper against the tightening programs: m = 60, depths 2, 4, 6: 3.9, 4.2, 6.2 s;
-/// m = 80, depths 3, 4, 6: 28.0, 24.7, 31.4 s, one run each.)
+/// Search nodes down to this depth tighten the bounds of their undecided nodes' drives
+/// ([`cuts::tighten`]); deeper ones inherit them. In 3D the depth grows with the problem
+/// ([`crate::conic::cuts::tighten_depth_3d`]). Deeper tightening visits fewer nodes but solves
+/// more programs. (Measured on the 2D plug with the simplex method, problem `mu` 2, before the
+/// root settled its bounds: m = 40, depths 4, 5: 0.78, 1.35 s; m = 60, depths 3, 4, 5, 6:
+/// 13.0, 8.9, 8.7, 10.5 s (74k, 31k, 16k, 7.8k nodes); m = 80, depths 4, 5, 6, 8: 85, 46, 44,
+/// 137 s (278k, 107k, 52k, 24k nodes), which gave `max(4, m / 20)`. With Clarabel, at m = 40,
+/// depths 2, 4, 6, 8 took 52, 30, 33, 35 s.)
 const TIGHTEN_DEPTH: usize = 4;
-const TIGHTEN_PER_DEPTH: usize = 20;
+
+/// The depth of [`TIGHTEN_DEPTH`] where the root settles its bounds ([`SETTLE_FROM`]): below a
+/// settled root a second round of tightening pays only just under it. (Measured on the 2D plug
+/// with the root's rounded leaf ([`ROUNDED`]), one run each: m = 100, depths 0, 1, 2, 3, 5:
+/// 5.17, 4.98, 5.16, 6.25, 8.71 s (19.6k, 10.3k, 7.8k, 6.3k, 594 nodes); m = 120, depths 0, 1,
+/// 3, 5: 21.5, 19.4, 18.9, 19.9 s; m = 40 to 80 the same within 5%.)
+const SETTLED_TIGHTEN_DEPTH: usize = 1;
 
 /// Bounds computed at a level more than this factor above the current one are stale: the
 /// incumbent has dropped since (the first nodes are visited before there is one), and nodes
@@ -73,10 +78,26 @@ const STALE: f64 = 1e-4;
 const RETIGHTEN_DEPTH: usize = 8;
 
 /// The root settles its drive bounds ([`lp::tighten_node`]) on 2D problems of this many nodes
-/// or more. (Measured on the 2D plug, `farm-bench --vs`, paired wall medians against the root
-/// tightened once: m = 20 1.10, m = 40 1.06, m = 60 1.03, m = 70 0.48, m = 80 0.41; m = 100,
-/// one run each, 83.8 s against 23.4 s.)
-const SETTLE_FROM: usize = 60;
+/// or more. With the rounded first leaf ([`ROUNDED`]) at `mu*` a settled root often refutes
+/// the whole tree at once. (Measured on the 2D plug, `farm-bench --vs`, paired wall medians of
+/// settled against tightened once: m = 10 1.29 (8 against 10 ms), m = 16 1.02, m = 20 1.14, m
+/// = 24 0.96, m = 40 0.49 (0.20 against 0.41 s), m = 50 0.36 against 0.72 s. Before the
+/// rounded leaf: m = 20 1.10, m = 40 1.06, m = 60 1.03, m = 70 0.48, m = 80 0.41.)
+const SETTLE_FROM: usize = 24;
+
+/// The dive's first leaf in 2D is the root's relaxed solution rounded: the contact set of the
+/// nodes pressed by more than this fraction of the most pressed, its leaf by
+/// [`leaf_of`] (a few linear programs), then improved ([`improve`]). On the 2D plug the dive
+/// finds no leaf of its own from m = 80 on, and the improvement from the all-contact set
+/// stops above `mu*`; from the rounded set it reaches `mu*` (m = 100: 31 steps from 4.12 with
+/// 1e-2; 70 steps from 2.78 with 1e-6), where the settled root of the next pass often refutes
+/// the whole tree. Only from a settled root ([`SETTLE_FROM`]): from a root tightened once
+/// the improvement stopped at 2.38 (m = 100) and the run took 43 s against 5 s. Measured with
+/// the settling from 24 nodes and [`SETTLED_TIGHTEN_DEPTH`], `farm-bench -n 5 --vs`, paired
+/// wall medians against the root settled from 60 nodes with no rounding: m = 40 0.61, m = 60
+/// 0.51, m = 80 0.62 (2.09 s), m = 100 0.38 (5.33 against 14.0 s); m = 120 19.3 s (one run;
+/// 162 s before).
+const ROUNDED: f64 = 1e-2;
 
 /// The test hooks of a run ([`crate::run::Fault`]).
 #[derive(Debug, Clone, Copy, Default)]
@@ -177,14 +198,16 @@ impl Search<'_, '_, '_> {
     fn tighten_depth(&self) -> usize {
         let m = self.form().m;
         match self.form().dim {
-            2 => TIGHTEN_DEPTH.max(m / TIGHTEN_PER_DEPTH),
+            2 if m >= self.settle_from => SETTLED_TIGHTEN_DEPTH,
+            2 => TIGHTEN_DEPTH,
             _ => crate::conic::cuts::tighten_depth_3d(m),
         }
     }
 
-    /// Offers a leaf found by the search; the run's first one is improved first
-    /// ([`improve`]), and a dive ends at it.
-    fn found(&self, leaf: Leaf) {
+    /// Offers a leaf found by the search (`own`: one of its tree's, with its certified lower
+    /// end) or by rounding the dive's root ([`ROUNDED`]); the run's first one is improved
+    /// first ([`improve`]), and a dive ends at it.
+    fn found(&self, leaf: Leaf, own: bool) {
         if self.dive.load(Ordering::Relaxed) {
             self.end_pass.store(true, Ordering::Relaxed);
         }
@@ -192,9 +215,32 @@ impl Search<'_, '_, '_> {
             let (better, steps) = improve(self.ctx, &self.lp, self.control, leaf.clone());
             self.improvement_steps
                 .store(steps as u64, Ordering::Relaxed);
-            self.offer(better);
+            if steps > 0 {
+                // An improved leaf is made exact with its threshold's certified lower end.
+                self.offer(better);
+            }
         }
-        self.offer(leaf);
+        if own {
+            self.offer(leaf);
+        } else {
+            // A rounded leaf's lower end is its bisection's, in floating point: offered
+            // without it, as the all-contact leaf is.
+            self.offer_start(leaf);
+        }
+    }
+
+    /// The dive's first leaf by rounding the root's relaxed solution `r` (see [`ROUNDED`]):
+    /// the contact set of the nodes pressed by more than that fraction of the most pressed.
+    fn rounded(&self, r: &[f64], level: f64) {
+        let d = self.form().dim;
+        let m = self.form().m;
+        let most = (0..m).map(|i| r[d * i]).fold(0.0, f64::max);
+        let contact: Vec<bool> = (0..m).map(|i| r[d * i] > ROUNDED * most).collect();
+        if most > 0.0 && contact.contains(&true) {
+            if let Some(leaf) = leaf_of(self.ctx, &self.lp, self.control, contact, level) {
+                self.found(leaf, false);
+            }
+        }
     }
 
     fn offer(&self, leaf: Leaf) {
@@ -435,7 +481,7 @@ impl shard::Tree for Search<'_, '_, '_> {
                     Some((theta, p)) => {
                         let cap = || self.level();
                         match self.ctx.leaf_threshold(&set, theta, p, self.control, &cap) {
-                            Ok(Some(leaf)) => self.found(leaf),
+                            Ok(Some(leaf)) => self.found(leaf, true),
                             Ok(None) => {
                                 self.pruned.fetch_add(1, Ordering::Relaxed);
                             }
@@ -456,6 +502,15 @@ impl shard::Tree for Search<'_, '_, '_> {
             Decision::Yes { r, .. } => Some(r),
             Decision::Unsure(_) => None,
         };
+        if let Some(r) = witness
+            .as_ref()
+            .filter(|_| depth == 0 && self.form().dim == 2 && self.dive.load(Ordering::Relaxed))
+        {
+            self.rounded(r, level);
+            if self.end_pass.load(Ordering::Relaxed) {
+                return None;
+            }
+        }
         Some(self.branch(classes, witness, &free, drive, warm, extremes))
     }
 }
@@ -632,7 +687,8 @@ pub(super) fn run(
             if search.heuristic && !control.must_stop(0) {
                 // The all-contact set's leaf is the incumbent until the search finds a better
                 // one (offered as it is: the search's first leaf is the one improved). In 2D
-                // first: a few linear programs, and the 2D dive finds no leaf from m = 80 on.
+                // first: a few linear programs, the incumbent where the dive's rounded root
+                // gives none ([`ROUNDED`]); the 2D dive finds no leaf of its own from m = 80 on.
                 // In 3D only when the dive finds none: its threshold needs cone programs (on
                 // the V-groove at m = 40, 36 of them and 1.18x the run's time), and the dive
                 // finds a leaf there in about 130 nodes.
