@@ -85,6 +85,13 @@ const RETIGHTEN_DEPTH: usize = 8;
 /// rounded leaf: m = 20 1.10, m = 40 1.06, m = 60 1.03, m = 70 0.48, m = 80 0.41.)
 const SETTLE_FROM: usize = 24;
 
+/// Nodes down to this depth settle their bounds where the root does ([`SETTLE_FROM`]); the
+/// root's children start from its settled bounds. (Measured on the 2D plug, one run each,
+/// depths 0, 1, 2 (3): m = 100 4.38, 4.37, 4.44 s (11.7k, 4, 4 nodes); m = 120 17.2, 7.8, 7.7
+/// s (69.7k, 4, 4 nodes); m = 140 243, 164, (157) s (1.51M, 836k, (803k) nodes). From m = 40 to
+/// 80 the settled root refutes the whole tree, and the depth makes no difference.)
+const SETTLE_DEPTH: usize = 1;
+
 /// The dive's first leaf in 2D is the root's relaxed solution rounded: the contact set of the
 /// nodes pressed by more than this fraction of the most pressed, its leaf by
 /// [`leaf_of`] (a few linear programs), then improved ([`improve`]). On the 2D plug the dive
@@ -365,7 +372,8 @@ impl shard::Tree for Search<'_, '_, '_> {
                 drive: known,
             };
             // The root of a 2D search settles its bounds (the tightening repeated with its own
-            // cuts, `lp::tighten_node`), and every node inherits them: on the 2D plug at m =
+            // cuts, `lp::tighten_node`), and so do its children ([`SETTLE_DEPTH`]); every
+            // node inherits them: on the 2D plug at m =
             // 80 the tree went from 72k nodes to 7.1k and the run from 13.3 s to 5.4 s, at
             // m = 100 from 427k nodes to 30k and 84 s to 23 s (`BENCHMARKS.md`). (Measured
             // before loose rows were left out of the node programs, on 2026-11-26, the tree
@@ -373,7 +381,8 @@ impl shard::Tree for Search<'_, '_, '_> {
             // s became 1.6 s. A root settled at the same level before (the dive's, when it
             // found no leaf) is taken as it is.
             let root = depth == 0 && classes.iter().all(|&c| c == Class::Free);
-            let settle = root && self.form().dim == 2 && self.form().m >= self.settle_from;
+            let settle =
+                depth <= SETTLE_DEPTH && self.form().dim == 2 && self.form().m >= self.settle_from;
             // A root settled before at a higher level (the dive's, whose leaf lowered the
             // level) starts this one's settling: its bounds hold here too (the relaxation at a
             // lower `mu` lies inside the one above), and its programs' last bases start these.
@@ -409,7 +418,7 @@ impl shard::Tree for Search<'_, '_, '_> {
                 )
                 .map(|(tight, _, kept)| {
                     let (tight, kept) = (Arc::new(tight), Arc::new(kept));
-                    if settle && !self.control.must_stop(0) {
+                    if root && settle && !self.control.must_stop(0) {
                         if let Ok(mut c) = self.settled.lock() {
                             *c = Some((level.to_bits(), tight.clone(), kept.clone()));
                         }
