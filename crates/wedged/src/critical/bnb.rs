@@ -106,6 +106,13 @@ const SETTLE_DEPTH: usize = 1;
 /// 162 s before).
 const ROUNDED: f64 = 1e-2;
 
+/// A pass (2D, where the root settles) starts over when a leaf it found has lowered the level
+/// by more than this share below the level its root settled at: the root then settles again
+/// at the new level, which refutes more of the tree than the old bounds. (On the 2D plug at m
+/// = 140, with every new best improved: 121 s and 382k nodes, most of them the proof under the
+/// stale root, against 33 s and 58k nodes with the restart.)
+const RESTART: f64 = 1e-3;
+
 /// The test hooks of a run ([`crate::run::Fault`]).
 #[derive(Debug, Clone, Copy, Default)]
 pub(super) struct Hooks {
@@ -176,6 +183,8 @@ struct Search<'a, 'b, 'c> {
     improved: AtomicBool,
     /// The improvement's steps.
     improvement_steps: AtomicU64,
+    /// Set with `end_pass` to start the present pass over ([`RESTART`]).
+    restart: AtomicBool,
     /// Whether the run looks for a first leaf by a dive and improves it (not certified, not
     /// in shards: their passes must split the tree alike).
     heuristic: bool,
@@ -218,10 +227,15 @@ impl Search<'_, '_, '_> {
         if self.dive.load(Ordering::Relaxed) {
             self.end_pass.store(true, Ordering::Relaxed);
         }
-        if self.heuristic && !self.improved.swap(true, Ordering::Relaxed) {
+        // In 2D where the root settles, every new best leaf is improved too: on the 2D plug
+        // at m = 140 the rounded leaf's local search stops at 1.7996, 3% above `mu*`, and the
+        // pass's first leaf below it improves to 1.744 (from 1,000 nodes; a crawl down
+        // through 38 leaves and 110 s without).
+        let again = self.settles() && leaf.theta < self.incumbent();
+        if self.heuristic && (!self.improved.swap(true, Ordering::Relaxed) || again) {
             let (better, steps) = improve(self.ctx, &self.lp, self.control, leaf.clone());
             self.improvement_steps
-                .store(steps as u64, Ordering::Relaxed);
+                .fetch_add(steps as u64, Ordering::Relaxed);
             if steps > 0 {
                 // An improved leaf is made exact with its threshold's certified lower end.
                 self.offer(better);
@@ -229,6 +243,7 @@ impl Search<'_, '_, '_> {
         }
         if own {
             self.offer(leaf);
+            self.check_restart();
         } else {
             // A rounded leaf's lower end is its bisection's, in floating point: offered
             // without it, as the all-contact leaf is.
@@ -247,6 +262,28 @@ impl Search<'_, '_, '_> {
             if let Some(leaf) = leaf_of(self.ctx, &self.lp, self.control, contact, level) {
                 self.found(leaf, false);
             }
+        }
+    }
+
+    /// Whether the root settles its bounds ([`SETTLE_FROM`]).
+    fn settles(&self) -> bool {
+        self.form().dim == 2 && self.form().m >= self.settle_from
+    }
+
+    /// Ends the present pass to start it over ([`RESTART`]) when the incumbent has dropped
+    /// that far below the level its root settled at.
+    fn check_restart(&self) {
+        if !self.heuristic || self.dive.load(Ordering::Relaxed) || !self.settles() {
+            return;
+        }
+        let at = self
+            .settled
+            .lock()
+            .ok()
+            .and_then(|c| c.as_ref().map(|c| f64::from_bits(c.0)));
+        if at.is_some_and(|at| at > self.level() * (1.0 + RESTART)) {
+            self.restart.store(true, Ordering::Relaxed);
+            self.end_pass.store(true, Ordering::Relaxed);
         }
     }
 
@@ -674,6 +711,7 @@ pub(super) fn run(
         end_pass: AtomicBool::new(false),
         improved: AtomicBool::new(false),
         improvement_steps: AtomicU64::new(0),
+        restart: AtomicBool::new(false),
         heuristic: ctx.form.refutations.is_none() && shard.is_none(),
     };
     let explored = Explored::new();
@@ -739,6 +777,16 @@ pub(super) fn run(
                 let undecided = search.undecided.lock().map_or(0, |u| u.len());
                 explored.reset();
                 split = Walk::new(&search, &explored).run(shard);
+                // A pass ended for a restart proved nothing: it starts over at the same bar
+                // with the lower incumbent, and what it left undecided is decided again.
+                while search.restart.swap(false, Ordering::Relaxed) && !control.must_stop(0) {
+                    search.end_pass.store(false, Ordering::Relaxed);
+                    if let Ok(mut u) = search.undecided.lock() {
+                        u.truncate(undecided);
+                    }
+                    explored.reset();
+                    split = Walk::new(&search, &explored).run(shard);
+                }
                 // Done once the incumbent set this pass's level (it lies at or below the bar):
                 // then everything below `incumbent (1 - tol)` is refuted. An incumbent above
                 // the bar (the all-contact leaf, not the search's) leaves the pass a proof
