@@ -612,7 +612,7 @@ fn info_lines(out: &mut String, problem: &Problem, result: &Critical) {
         }
         if info.dive_nodes > 0 {
             search.push(format!(
-                "a first leaf looked for by a dive of {}, the first leaf improved in {} of \
+                "a first leaf looked for by a dive of {}, leaves improved in {} of \
                  local search over contact sets",
                 plural(info.dive_nodes as usize, "node", "nodes"),
                 plural(info.improvement_steps as usize, "step", "steps")

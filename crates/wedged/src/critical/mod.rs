@@ -231,8 +231,8 @@ pub struct CriticalInfo {
     /// Nodes visited by the dive for a first leaf (bnb without `certify`, not in shards; see
     /// `critical/bnb.rs`).
     pub dive_nodes: u64,
-    /// Steps of the local search that improved the run's first leaf (see
-    /// `critical/improve.rs`).
+    /// Steps of the local search that improved the run's leaves: its first one, and in 2D
+    /// from 24 nodes on every new best one (see `critical/improve.rs`).
     pub improvement_steps: u64,
     /// Linear programs of a search with drive cuts decided by the in-house simplex method,
     /// warm-started (2D bnb without `certify`; see `simplex.rs`).
