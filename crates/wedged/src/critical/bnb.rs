@@ -18,20 +18,19 @@
 //! replaces it. Subtrees run in parallel (`rayon::join`) and share the incumbent.
 //!
 //! **Drive cuts (not certified).** Nodes down to [`TIGHTEN_DEPTH`] (deeper on larger 3D
-//! problems, [`SETTLED_TIGHTEN_DEPTH`] below a settled root) bound the drive of their undecided nodes (again down to [`RETIGHTEN_DEPTH`] when
-//! the incumbent has dropped since), and every program below carries the cuts those bounds
-//! give ([`crate::conic::cuts`]): a node that presses must not be driven open. From
-//! [`SETTLE_FROM`] nodes on (2D), the root repeats its tightening with its own cuts until the
-//! bounds settle, as the enumeration's search does; the dive's settled root, rounded, gives
-//! the run's first leaf ([`ROUNDED`]). The program then also
-//! minimises the undecided nodes' total gap and pressure, so that its point is a vertex rather
-//! than a central one. On
-//! the 2D plug this cuts the tree by 10x to 50x and the time by 3x to 8x (`BENCHMARKS.md`). In
-//! 3D the bounds come from the outer polyhedral relaxation of the node (below), so they hold
-//! for its cone program too; on the 3D V-groove plug (m = 20) the tree went from 31k nodes to
-//! 13k. (With Clarabel's central points, before the 3D simplex programs, the cuts had made the
-//! 3D tree larger: 39k nodes against 12k.) A certified run leaves them out, since its
-//! refutations must be checked exactly.
+//! problems, [`SETTLED_TIGHTEN_DEPTH`] below a settled root) bound the drive of their undecided
+//! nodes (again down to [`RETIGHTEN_DEPTH`] when the incumbent has dropped since), and every
+//! program below carries the cuts those bounds give ([`crate::conic::cuts`]): a node that
+//! presses must not be driven open. From [`SETTLE_FROM`] nodes on (2D), the root repeats its
+//! tightening with its own cuts until the bounds settle, as the enumeration's search does; the
+//! dive's settled root, rounded, gives the run's first leaf ([`ROUNDED`]). The program then
+//! also minimises the undecided nodes' total gap and pressure, so that its point is a vertex
+//! rather than a central one. On the 2D plug this cuts the tree by 10x to 50x and the time by
+//! 3x to 8x (`BENCHMARKS.md`). In 3D the bounds come from the outer polyhedral relaxation of
+//! the node (below), so they hold for its cone program too; on the 3D V-groove plug (m = 20)
+//! the tree went from 31k nodes to 13k. (With Clarabel's central points, before the 3D simplex
+//! programs, the cuts had made the 3D tree larger: 39k nodes against 12k.) A certified run
+//! leaves them out, since its refutations must be checked exactly.
 //!
 //! **The simplex method (the same searches).** Their programs are linear programs of one
 //! shape ([`crate::conic::node_lp`]); each is solved by the in-house simplex method from its parent's
@@ -64,11 +63,11 @@ use crate::shard::{self, Explored, Shard, Walk};
 /// depths 2, 4, 6, 8 took 52, 30, 33, 35 s.)
 const TIGHTEN_DEPTH: usize = 4;
 
-/// The depth of [`TIGHTEN_DEPTH`] where the root settles its bounds ([`SETTLE_FROM`]): below a
-/// settled root a second round of tightening pays only just under it. (Measured on the 2D plug
-/// with the root's rounded leaf ([`ROUNDED`]), one run each: m = 100, depths 0, 1, 2, 3, 5:
-/// 5.17, 4.98, 5.16, 6.25, 8.71 s (19.6k, 10.3k, 7.8k, 6.3k, 594 nodes); m = 120, depths 0, 1,
-/// 3, 5: 21.5, 19.4, 18.9, 19.9 s; m = 40 to 80 the same within 5%.)
+/// The depth that replaces [`TIGHTEN_DEPTH`] where the root settles its bounds
+/// ([`SETTLE_FROM`]): below settled bounds, tightening pays only just under them. (Measured on
+/// the 2D plug with the root's rounded leaf ([`ROUNDED`]), one run each: m = 100, depths 0, 1,
+/// 2, 3, 5: 5.17, 4.98, 5.16, 6.25, 8.71 s (19.6k, 10.3k, 7.8k, 6.3k, 594 nodes); m = 120,
+/// depths 0, 1, 3, 5: 21.5, 19.4, 18.9, 19.9 s; m = 40 to 80 the same within 5%.)
 const SETTLED_TIGHTEN_DEPTH: usize = 1;
 
 /// Bounds computed at a level more than this factor above the current one are stale: the
@@ -221,16 +220,17 @@ impl Search<'_, '_, '_> {
     }
 
     /// Offers a leaf found by the search (`own`: one of its tree's, with its certified lower
-    /// end) or by rounding the dive's root ([`ROUNDED`]); the run's first one is improved
-    /// first ([`improve`]), and a dive ends at it.
+    /// end) or by rounding the dive's root ([`ROUNDED`]); the run's first one (and where the
+    /// root settles, every new best one) is improved first ([`improve`]), and a dive ends at
+    /// it.
     fn found(&self, leaf: Leaf, own: bool) {
         if self.dive.load(Ordering::Relaxed) {
             self.end_pass.store(true, Ordering::Relaxed);
         }
         // In 2D where the root settles, every new best leaf is improved too: on the 2D plug
         // at m = 140 the rounded leaf's local search stops at 1.7996, 3% above `mu*`, and the
-        // pass's first leaf below it improves to 1.744 (from 1,000 nodes; a crawl down
-        // through 38 leaves and 110 s without).
+        // pass's first leaf below it improves to about `mu*` (without, the pass crawled down
+        // through 38 leaves in 110 s).
         let again = self.settles() && leaf.theta < self.incumbent();
         if self.heuristic && (!self.improved.swap(true, Ordering::Relaxed) || again) {
             let (better, steps) = improve(self.ctx, &self.lp, self.control, leaf.clone());
@@ -258,7 +258,7 @@ impl Search<'_, '_, '_> {
         let m = self.form().m;
         let most = (0..m).map(|i| r[d * i]).fold(0.0, f64::max);
         let contact: Vec<bool> = (0..m).map(|i| r[d * i] > ROUNDED * most).collect();
-        if most > 0.0 && contact.contains(&true) {
+        if most > 0.0 {
             if let Some(leaf) = leaf_of(self.ctx, &self.lp, self.control, contact, level) {
                 self.found(leaf, false);
             }
