@@ -36,7 +36,7 @@ pub enum Fault {
     /// point where an incomplete run has a lower end to report.
     HaltAfterPass,
     /// Not a fault: the `bnb` search of `mu*` settles its root's drive bounds on a 2D problem
-    /// of any size (by default from `SETTLE_FROM` nodes on, `critical/bnb.rs`), so that the
+    /// of any size (by default from `SETTLE_FROM` nodes on, `critical/bnb/tuning.rs`), so that the
     /// tests see that path on problems small enough to check by brute force.
     SettleRoot,
 }
