@@ -160,7 +160,7 @@ impl Search<'_, '_, '_> {
     fn tighten_depth(&self) -> usize {
         let m = self.form().m;
         match self.form().dim {
-            2 if m >= self.settle_from => SETTLED_TIGHTEN_DEPTH,
+            2 if self.settles() => SETTLED_TIGHTEN_DEPTH,
             2 => TIGHTEN_DEPTH,
             _ => crate::conic::cuts::tighten_depth_3d(m),
         }
@@ -365,8 +365,7 @@ impl shard::Tree for Search<'_, '_, '_> {
             // s became 1.6 s. A root settled at the same level before (the dive's, when it
             // found no leaf) is taken as it is.
             let root = depth == 0 && classes.iter().all(|&c| c == Class::Free);
-            let settle =
-                depth <= SETTLE_DEPTH && self.form().dim == 2 && self.form().m >= self.settle_from;
+            let settle = depth <= SETTLE_DEPTH && self.settles();
             // A root settled before at a higher level (the dive's, whose leaf lowered the
             // level) starts this one's settling: its bounds hold here too (the relaxation at a
             // lower `mu` lies inside the one above), and its programs' last bases start these.

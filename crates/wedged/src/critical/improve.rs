@@ -363,7 +363,7 @@ pub(super) mod tests {
             let mu_star = (1..1usize << m)
                 .filter_map(|mask| threshold(&form, &set(mask, m), 64.0 * BAR))
                 .fold(f64::INFINITY, f64::min);
-            // A nonempty set other than the all-contact one where `m > 1`.
+            // A nonempty set (masks 1 to `2^m - 1`: now and then the all-contact set again).
             let other = set(1 + (case as usize * 7) % ((1 << m) - 1), m);
             for contact in [vec![true; m], other] {
                 let own = threshold(&form, &contact, 64.0 * BAR);
