@@ -141,10 +141,16 @@ pub(crate) fn largest_shrink(old: &[(f64, f64)], new: &[(f64, f64)]) -> f64 {
 /// the solver: the subtree has no solution at `mu` or below). A bound the solver cannot
 /// decide stays as it was, and so do the bounds not yet tightened once `stop()` (the run's
 /// limit or Ctrl-C: at m = 200 one node's programs take seconds).
+///
+/// Only a part of the free nodes with `part = (k, parts)`: those whose position among the free
+/// nodes is `k` modulo `parts`; the others keep their bounds (`(0, 1)`: every free node). (A
+/// settled tightening, [`super::node_lp::tighten_node`], takes the parts in turn, each with the
+/// cuts the one before it gave.)
 pub(crate) fn tighten(
     form: &Formulation,
     classes: &[Class],
     drive: Option<&Drive>,
+    part: (usize, usize),
     minimise: &(dyn Fn(usize, &[f64]) -> Decision + Sync),
     stop: &(dyn Fn() -> bool + Sync),
 ) -> Option<Drive> {
@@ -152,7 +158,13 @@ pub(crate) fn tighten(
     let mut out = drive
         .cloned()
         .unwrap_or_else(|| vec![(f64::NEG_INFINITY, f64::INFINITY); m]);
-    let free: Vec<usize> = (0..m).filter(|&j| classes[j] == Class::Free).collect();
+    let (k, parts) = part;
+    let free: Vec<usize> = (0..m)
+        .filter(|&j| classes[j] == Class::Free)
+        .enumerate()
+        .filter(|&(n, _)| n % parts.max(1) == k)
+        .map(|(_, j)| j)
+        .collect();
     // Each free node's two programs (`None` when one is infeasible): the node and its new
     // bounds, each `None` when the solver was unsure. (Starting each program from the basis
     // the previous one left, the least drives of a run of neighbours first, took as many
@@ -262,10 +274,10 @@ mod tests {
                         };
                         let minimise =
                             lp::relaxation(&form, &counters, &classes, shape, None, None, None);
-                        tighten(&form, &classes, d, &minimise, &|| false)
+                        tighten(&form, &classes, d, (0, 1), &minimise, &|| false)
                     } else {
                         let minimise = clarabel_relaxation(&form, &classes, mu, d);
-                        tighten(&form, &classes, d, &minimise, &|| false)
+                        tighten(&form, &classes, d, (0, 1), &minimise, &|| false)
                     }
                 };
                 let again = twice(None).and_then(|d| twice(Some(&d)));
@@ -300,7 +312,8 @@ mod tests {
     /// Once `stop()` holds, [`tighten`] solves no more programs and the bounds not yet
     /// tightened stay as they were: with a stop from the start, none is solved and the bounds
     /// come back unchanged; with a stop after a few programs, each bound is either the one it
-    /// had or the one a whole tightening gives.
+    /// had or the one a whole tightening gives. A tightening of a part of the nodes is the
+    /// whole one's on them.
     #[test]
     fn a_stop_leaves_the_bounds_as_they_were() {
         use std::sync::atomic::AtomicUsize;
@@ -321,19 +334,21 @@ mod tests {
                 solved.fetch_add(1, Ordering::Relaxed);
                 minimise(key, objective)
             };
-            let Some(whole) = tighten(&form, &classes, None, &counted, &|| false) else {
+            let Some(whole) = tighten(&form, &classes, None, (0, 1), &counted, &|| false) else {
                 continue;
             };
             let unbounded = vec![(f64::NEG_INFINITY, f64::INFINITY); m];
             solved.store(0, Ordering::Relaxed);
-            let none = tighten(&form, &classes, None, &counted, &|| true).expect("not refuted");
+            let none =
+                tighten(&form, &classes, None, (0, 1), &counted, &|| true).expect("not refuted");
             assert_eq!(solved.load(Ordering::Relaxed), 0, "seed {seed}");
             assert_eq!(none, unbounded, "seed {seed}");
-            let kept = tighten(&form, &classes, Some(&whole), &counted, &|| true).unwrap();
+            let kept = tighten(&form, &classes, Some(&whole), (0, 1), &counted, &|| true).unwrap();
             assert_eq!(kept, whole, "seed {seed}");
             solved.store(0, Ordering::Relaxed);
             let few = || solved.load(Ordering::Relaxed) >= 3;
-            let partial = tighten(&form, &classes, None, &counted, &few).expect("not refuted");
+            let partial =
+                tighten(&form, &classes, None, (0, 1), &counted, &few).expect("not refuted");
             for j in 0..m {
                 let (lo, hi) = partial[j];
                 assert!(
@@ -345,70 +360,95 @@ mod tests {
             if partial != whole && partial != unbounded {
                 partial_seen += 1;
             }
+            // A part's nodes (every third free one) get the whole tightening's bounds, the
+            // others keep theirs.
+            for k in 0..3 {
+                let part = tighten(&form, &classes, None, (k, 3), &counted, &|| false)
+                    .expect("not refuted");
+                for j in 0..m {
+                    let expected = if j % 3 == k { whole[j] } else { unbounded[j] };
+                    assert_eq!(part[j], expected, "seed {seed}: part {k}, node {j}");
+                }
+            }
         }
         assert!(partial_seen >= 3, "only {partial_seen} partial tightenings");
     }
 
-    /// A settled root ([`lp::tighten_node`] with `settle`) bounds every extreme ray's drive
-    /// (so, the cone being their combinations, every solution's) and is at least as tight as
-    /// one round; on some problems it is tighter.
+    /// A settled root ([`lp::tighten_node`], in one part or three) bounds every extreme ray's
+    /// drive (so, the cone being their combinations, every solution's) and is at least as
+    /// tight as one round; on some problems it is tighter.
     #[test]
     fn settled_bounds_keep_every_solution_and_tighten() {
-        let (mut checked, mut tighter) = (0, 0);
-        for seed in 0..30u64 {
-            let m = 3 + (seed % 4) as usize;
-            let problem = random_spd_problem(m, 2.5, 9100 + seed);
-            let rays = enumerate(&problem, &Settings::default()).unwrap().rays;
-            let form = Formulation::new(&problem);
-            let classes = vec![Class::Free; m];
-            let counters = LpCounters::default();
-            let shape = Shape {
-                mu: problem.mu(),
-                drive: None,
-            };
-            let never = || false;
-            let once = lp::tighten_node(
-                &form,
-                &counters,
-                &classes,
-                shape,
-                Default::default(),
-                false,
-                &never,
-            );
-            let settled = lp::tighten_node(
-                &form,
-                &counters,
-                &classes,
-                shape,
-                Default::default(),
-                true,
-                &never,
-            );
-            let (Some((once, _, _)), Some((settled, _, _))) = (once, settled) else {
-                assert!(rays.is_empty(), "seed {seed}: a root with solutions pruned");
-                continue;
-            };
-            for j in 0..m {
-                let (lo, hi) = settled[j];
-                assert!(
-                    lo >= once[j].0 && hi <= once[j].1,
-                    "seed {seed}: node {j} looser"
+        let (mut checked, mut tighter) = (0, [0, 0]);
+        // Settled in one part (a round's programs all with the last round's cuts) and in
+        // three (each part with the cuts of those before it).
+        for (kind, settle) in [lp::Settle::InParts(1), lp::Settle::InParts(3)]
+            .into_iter()
+            .enumerate()
+        {
+            for seed in 0..30u64 {
+                let m = 3 + (seed % 4) as usize;
+                let problem = random_spd_problem(m, 2.5, 9100 + seed);
+                let rays = enumerate(&problem, &Settings::default()).unwrap().rays;
+                let form = Formulation::new(&problem);
+                let classes = vec![Class::Free; m];
+                let counters = LpCounters::default();
+                let shape = Shape {
+                    mu: problem.mu(),
+                    drive: None,
+                };
+                let never = || false;
+                let once = lp::tighten_node(
+                    &form,
+                    &counters,
+                    &classes,
+                    shape,
+                    Default::default(),
+                    lp::Settle::Once,
+                    &never,
                 );
-                tighter += usize::from(lo > once[j].0 + 1e-9 || hi < once[j].1 - 1e-9);
-                let w = drive_row(&form, j);
-                for ray in &rays {
-                    let s: f64 = (0..m).map(|i| ray.r[2 * i]).sum();
-                    let v: f64 = w.iter().zip(&ray.r).map(|(a, b)| a * b).sum::<f64>() / s;
+                let settled = lp::tighten_node(
+                    &form,
+                    &counters,
+                    &classes,
+                    shape,
+                    Default::default(),
+                    settle,
+                    &never,
+                );
+                let (Some((once, _, _)), Some((settled, _, _))) = (once, settled) else {
+                    assert!(rays.is_empty(), "seed {seed}: a root with solutions pruned");
+                    continue;
+                };
+                for j in 0..m {
+                    let (lo, hi) = settled[j];
+                    // (Within rounding: a part's first programs are the single round's,
+                    // solved from other bases.)
+                    let slack = |x: f64| 1e-12 * (1.0 + x.abs());
                     assert!(
-                        v >= lo - 1e-9 && v <= hi + 1e-9,
-                        "seed {seed}: node {j}'s drive {v} outside [{lo}, {hi}]"
+                        lo >= once[j].0 - slack(once[j].0) && hi <= once[j].1 + slack(once[j].1),
+                        "seed {seed}: node {j} looser: {:?} against {:?}",
+                        settled[j],
+                        once[j]
                     );
-                    checked += 1;
+                    tighter[kind] += usize::from(lo > once[j].0 + 1e-9 || hi < once[j].1 - 1e-9);
+                    let w = drive_row(&form, j);
+                    for ray in &rays {
+                        let s: f64 = (0..m).map(|i| ray.r[2 * i]).sum();
+                        let v: f64 = w.iter().zip(&ray.r).map(|(a, b)| a * b).sum::<f64>() / s;
+                        assert!(
+                            v >= lo - 1e-9 && v <= hi + 1e-9,
+                            "seed {seed}: node {j}'s drive {v} outside [{lo}, {hi}]"
+                        );
+                        checked += 1;
+                    }
                 }
             }
         }
-        assert!(checked > 100 && tighter > 0, "{checked} {tighter}");
+        assert!(
+            checked > 200 && tighter.iter().all(|&t| t > 0),
+            "{checked} {tighter:?}"
+        );
     }
 
     #[test]

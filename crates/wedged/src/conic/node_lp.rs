@@ -508,19 +508,20 @@ pub(crate) struct Starts<'a> {
 /// 4.35 -> 3.76 s, m = 80 19.0 -> 16.7 s; `enumerate` m = 60 3.19 -> 2.54 s (485k -> 338k
 /// pivots), m = 80 24.6 -> 21.1 s; the 3D V-groove at m = 20 unchanged.)
 ///
-/// With `settle`, the tightening is repeated with the cuts of the bounds it found until no
-/// bound interval shrinks by more than [`SETTLED`] of its width (at most [`SETTLE_ROUNDS`]
-/// rounds): each round's cuts tighten the next round's relaxation. The searches settle their
-/// root's bounds, which every node inherits. (Measured on issue 20's plug, `enumerate`, whole
-/// process: m = 60, the root tightened once, 3, 8, 12, 20 times: 46.5k, 41.6k, 27.1k, 22.8k,
-/// 16.2k nodes, 1.03M, 0.93M, 0.67M, 0.64M, 0.62M pivots; settled, 17.2k nodes, 0.59M pivots.)
+/// Settled ([`Settle::InParts`]), the tightening is repeated with the cuts of the bounds it
+/// found until no bound interval shrinks by more than [`SETTLED`] of its width (at most
+/// [`SETTLE_ROUNDS`] rounds): each round's cuts tighten the next round's relaxation. The
+/// searches settle their root's bounds, which every node inherits. (Measured on issue 20's
+/// plug, `enumerate`, whole process: m = 60, the root tightened once, 3, 8, 12, 20 times:
+/// 46.5k, 41.6k, 27.1k, 22.8k, 16.2k nodes, 1.03M, 0.93M, 0.67M, 0.64M, 0.62M pivots; settled,
+/// 17.2k nodes, 0.59M pivots.)
 pub(crate) fn tighten_node(
     form: &Formulation,
     counters: &LpCounters,
     classes: &[Class],
     shape: Shape,
     start: Starts,
-    settle: bool,
+    settle: Settle,
     stop: &(dyn Fn() -> bool + Sync),
 ) -> Option<(Drive, Option<Warm>, Extremes)> {
     let Starts { warm, previous } = start;
@@ -531,8 +532,17 @@ pub(crate) fn tighten_node(
         .collect();
     // This tightening's own bases once a round has ended; until then, `previous`'s.
     let mut kept: Option<Extremes> = None;
-    let rounds = if settle { SETTLE_ROUNDS } else { 1 };
-    for _ in 0..rounds {
+    let parts = match settle {
+        Settle::Once => 1,
+        Settle::InParts(parts) => parts.max(1),
+    };
+    let rounds = match settle {
+        Settle::Once => 1,
+        Settle::InParts(_) => SETTLE_ROUNDS * parts,
+    };
+    // The largest shrink over the parts of the present round.
+    let mut shrunk = 0.0f64;
+    for pass in 0..rounds {
         let round = Shape {
             mu: shape.mu,
             drive: known.as_ref(),
@@ -559,7 +569,8 @@ pub(crate) fn tighten_node(
             kept.as_deref().or(previous),
             Some(&found[..]),
         );
-        let tight = cuts::tighten(form, classes, known.as_deref(), &minimise, stop)?;
+        let part = (pass % parts, parts);
+        let tight = cuts::tighten(form, classes, known.as_deref(), part, &minimise, stop)?;
         drop(minimise);
         // A program not solved this round (a stop, or one Clarabel decided) keeps the basis it
         // started from.
@@ -577,12 +588,34 @@ pub(crate) fn tighten_node(
             .map_or(1.0, |old| cuts::largest_shrink(old, &tight));
         known = Some(Arc::new(tight));
         warm = start;
-        if shrink <= SETTLED || stop() {
+        shrunk = shrunk.max(shrink);
+        if stop() {
             break;
+        }
+        if (pass + 1) % parts == 0 {
+            if shrunk <= SETTLED {
+                break;
+            }
+            shrunk = 0.0;
         }
     }
     let tight = known.map(Arc::unwrap_or_clone)?;
     Some((tight, warm, kept.unwrap_or_default()))
+}
+
+/// How many rounds a tightening ([`tighten_node`]) takes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Settle {
+    /// One round: every free node's two programs over the node's relaxation.
+    Once,
+    /// Rounds until the bounds settle, each round in this many parts: the free nodes taken in
+    /// turn by their position among the free ones modulo the parts, each part's programs with
+    /// the cuts of the bounds the parts before it found (as Gauss and Seidel's iteration takes
+    /// each unknown with those updated before it; one part is Jacobi's, every program of a
+    /// round with the last round's cuts). A part has the programs of a round over as many
+    /// nodes, so a round costs about the same, and its later parts start from tighter cuts.
+    /// (`critical`'s passes settle in three, `critical/bnb.rs`.)
+    InParts(usize),
 }
 
 /// A settled tightening ([`tighten_node`]) stops when no bound interval shrinks by more than

@@ -56,7 +56,7 @@ use crate::shard::{self, Explored, Shard, Walk};
 mod tuning;
 use tuning::{
     bars, DIVE_NODES_PER_NODE, RESTART, RETIGHTEN_DEPTH, ROUNDED, SETTLED_TIGHTEN_DEPTH,
-    SETTLE_DEPTH, SETTLE_FROM, STALE, TIGHTEN_DEPTH,
+    SETTLE_DEPTH, SETTLE_FROM, SETTLE_PARTS, STALE, TIGHTEN_DEPTH,
 };
 
 /// The test hooks of a run ([`crate::run::Fault`]).
@@ -396,7 +396,11 @@ impl shard::Tree for Search<'_, '_, '_> {
                         warm: warm.as_deref(),
                         previous,
                     },
-                    settle,
+                    match (settle, self.dive.load(Ordering::Relaxed)) {
+                        (false, _) => lp::Settle::Once,
+                        (true, true) => lp::Settle::InParts(1),
+                        (true, false) => lp::Settle::InParts(SETTLE_PARTS),
+                    },
                     &|| self.control.must_stop(0),
                 )
                 .map(|(tight, _, kept)| {

@@ -204,7 +204,11 @@ impl shard::Tree for Search<'_, '_> {
                     warm: warm.as_deref(),
                     previous: extremes.as_deref().map(|e| &e[..]),
                 },
-                settle,
+                if settle {
+                    lp::Settle::InParts(1)
+                } else {
+                    lp::Settle::Once
+                },
                 &|| self.control.must_stop(0),
             ) else {
                 self.pruned_infeasible.fetch_add(1, Ordering::Relaxed);

@@ -41,6 +41,16 @@ pub(super) const SETTLE_FROM: usize = 24;
 /// 80 the settled root refutes the whole tree, and the depth makes no difference.)
 pub(super) const SETTLE_DEPTH: usize = 1;
 
+/// A pass's settling nodes (not the dive's root, whose point is rounded to the first leaf)
+/// settle in this many parts ([`crate::conic::node_lp::Settle::InParts`]): each part's
+/// programs carry the cuts the parts before it found. At `mu*` the pass's root then often
+/// refutes the whole tree by itself. (Measured on the 2D plug, one run each, 2026-11-28: parts
+/// 1, 2, 3, 4: m = 100 4.66, 4.23, 3.49, 3.26 s (4, 4, 2, 2 nodes); m = 120 7.53, 7.98, 7.25,
+/// 9.22 s; m = 80 2.27 and 1.55 s with 1 and 3; m = 140 34.1 and 32.9 s (56k and 674 nodes).
+/// Settling the dive's root in three parts too changed its rounded leaf, and its improvement
+/// stopped above `mu*` at m = 120: 31 s, 77.7k nodes.)
+pub(super) const SETTLE_PARTS: usize = 3;
+
 /// The dive's first leaf in 2D is the root's relaxed solution rounded: the contact set of the
 /// nodes pressed by more than this fraction of the most pressed, its leaf by [`super::leaf_of`]
 /// (a few linear programs), then improved ([`super::improve`]). On the 2D plug the dive finds

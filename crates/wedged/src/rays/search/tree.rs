@@ -329,7 +329,11 @@ impl shard::Tree for Search<'_, '_> {
                     warm: warm.as_deref(),
                     previous: extremes.as_deref().map(|e| &e[..]),
                 },
-                settle,
+                if settle {
+                    node_lp::Settle::InParts(1)
+                } else {
+                    node_lp::Settle::Once
+                },
                 &|| self.control.must_stop(0),
             ) else {
                 self.pruned.fetch_add(1, Ordering::Relaxed);
