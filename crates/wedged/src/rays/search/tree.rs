@@ -74,6 +74,13 @@ const TIGHTEN_FROM: usize = 20;
 /// The root settles its bounds ([`node_lp::tighten_node`]) from this many nodes on.
 const SETTLE_FROM: usize = 40;
 
+/// ... in this many parts ([`node_lp::Settle::InParts`]: each part's programs with the cuts of
+/// the parts before it), as `critical`'s passes do. (Measured on issue 20's plug at 2.0,
+/// `farm-bench --vs`, parts 3 against 1, paired wall medians: m = 40 1.06 (0.200 against 0.187
+/// s), m = 60 0.83 (1.15 against 1.40 s), m = 80 0.91 (11.4 against 12.5 s; 194.5k -> 179.8k
+/// nodes); the same pieces.)
+const SETTLE_PARTS: usize = 3;
+
 /// What the search found and what it cost.
 #[derive(Debug, Default)]
 pub(crate) struct Tree {
@@ -330,7 +337,7 @@ impl shard::Tree for Search<'_, '_> {
                     previous: extremes.as_deref().map(|e| &e[..]),
                 },
                 if settle {
-                    node_lp::Settle::InParts(1)
+                    node_lp::Settle::InParts(SETTLE_PARTS)
                 } else {
                     node_lp::Settle::Once
                 },
