@@ -532,13 +532,11 @@ pub(crate) fn tighten_node(
         .collect();
     // This tightening's own bases once a round has ended; until then, `previous`'s.
     let mut kept: Option<Extremes> = None;
-    let parts = match settle {
-        Settle::Once => 1,
-        Settle::InParts(parts) => parts.max(1),
-    };
-    let rounds = match settle {
-        Settle::Once => 1,
-        Settle::InParts(_) => SETTLE_ROUNDS * parts,
+    // Programs per round come in `parts`; a settled tightening takes at most `SETTLE_ROUNDS`
+    // whole rounds.
+    let (parts, rounds) = match settle {
+        Settle::Once => (1, 1),
+        Settle::InParts(parts) => (parts.max(1), SETTLE_ROUNDS * parts.max(1)),
     };
     // The largest shrink over the parts of the present round.
     let mut shrunk = 0.0f64;
@@ -614,7 +612,8 @@ pub(crate) enum Settle {
     /// each unknown with those updated before it; one part is Jacobi's, every program of a
     /// round with the last round's cuts). A part has the programs of a round over as many
     /// nodes, so a round costs about the same, and its later parts start from tighter cuts.
-    /// (`critical`'s passes settle in three, `critical/bnb.rs`.)
+    /// (`critical`'s passes and the enumeration's root settle in three: `critical/bnb/tuning.rs`,
+    /// `rays/search/tree.rs`.)
     InParts(usize),
 }
 
