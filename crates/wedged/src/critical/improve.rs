@@ -11,18 +11,24 @@
 //! tested at a level below the leaf's threshold `theta` by the search's linear program of the
 //! leaf (contact on the set, separated elsewhere, `sum r_n = 1`), in parallel, started from the
 //! current leaf's basis. The levels are `theta (1 - s)` for `s` in [`STEPS`], from 0.3 down to
-//! 1e-5, deepest first, starting one level deeper than the last step's: the first level where
-//! some neighbour is feasible gives the step, so a long step is taken where one exists and the
-//! small ones are not missed (on the 2D plug the way down to `mu*` is a chain of single changes
-//! of 1e-5 to 1e-2 each). The first neighbour in node order that is feasible there and whose
-//! own threshold is below `theta` becomes the current leaf. In 2D that linear program is the
-//! leaf's exact program, and the threshold is found by bisection on it (warm-started, a few
-//! pivots a probe, between the level and the deeper level that found nothing); the leaf
-//! reached is made exact at the end ([`Ctx::leaf_threshold`]). In 3D
-//! the linear program is an outer relaxation: a neighbour it does not refute is confirmed by
-//! its cone program and its threshold computed exactly. The search stops at a leaf that no
-//! such neighbour improves, after [`MAX_STEPS_PER_NODE`] `m` steps, or when the run is
-//! stopped. The order is fixed, so the result does not depend on the threads.
+//! 1e-5. Every neighbour is screened at the shallowest (a set with no solution there has none
+//! deeper), and those that pass are tried at the levels deepest first: the first level where
+//! one is feasible gives the step, so a long step is taken where one exists and the small ones
+//! are not missed (on the 2D plug the way down to `mu*` is a chain of single changes of 1e-5 to
+//! 1e-2 each). The first neighbour in node order that is feasible there and whose own
+//! threshold is below `theta` becomes the current leaf. In 2D that linear program is the leaf's
+//! exact program, and the threshold is found by bisection on it (warm-started, a few pivots a
+//! probe, between the level and the deeper level that found nothing); the leaf reached is made
+//! exact at the end ([`Ctx::leaf_threshold`]). In 3D the linear program is an outer relaxation:
+//! a neighbour it does not refute is confirmed by its cone program and its threshold computed
+//! exactly.
+//!
+//! **Block moves**: where no single change improves, the same step over larger changes: a
+//! node and its 2, 4, 8, 16 or 32 nearest (by their coupling in `K`, [`nearest`]) all let go,
+//! or all pressed ([`blocks`]). A wedge can need a whole run of contact let go at once: on the
+//! 2D plug from m = 140 on the single changes stop about 3% above `mu*` ([`BLOCKS`]). The search
+//! stops at a leaf that neither improves, after [`MAX_STEPS_PER_NODE`] `m` steps, or when the
+//! run is stopped. The order is fixed, so the result does not depend on the threads.
 //!
 //! The leaf returned is an exact solution of its contact set with its threshold, as every leaf
 //! of the search is: it only sets the level; the proof that nothing lies below it is the
@@ -33,11 +39,13 @@
 //! at m = 200: none in ten minutes), and a run stopped then had nothing to report; now it
 //! reports at least that leaf's threshold as an upper end, with its checked witness.
 
+use std::collections::HashSet;
+
 use rayon::prelude::*;
 
 use super::{Ctx, Leaf};
 use crate::conic::node_lp::{self as lp, LpCounters, Shape, Warm};
-use crate::conic::program::{leaf_classes, Decision, Goal, Norm};
+use crate::conic::program::{leaf_classes, Decision, Formulation, Goal, Norm};
 use crate::run::Control;
 
 /// The levels a step screens the neighbours at, relative distances below the current
@@ -47,15 +55,22 @@ use crate::run::Control;
 /// reaches `mu*` = 1.7246526 in 25 steps.)
 const STEPS: [f64; 7] = [0.3, 0.1, 3e-2, 1e-2, 1e-3, 1e-4, 1e-5];
 
+/// The block moves' sizes: a node and this many of its nearest ([`blocks`]). (On the 2D plug
+/// at m = 140 the single changes stop at 1.7996, 3% above `mu*`, with both walls pressed down
+/// from mid-height; `mu*`'s wedge presses one wall over that length and the other only over a
+/// short patch. One block move (a run of the second wall let go) at 1.7976 and single changes
+/// from there reach `mu*` = 1.7439517.)
+const BLOCKS: [usize; 5] = [2, 4, 8, 16, 32];
+
 /// At most this many steps per contact node.
 const MAX_STEPS_PER_NODE: usize = 4;
 
 /// The relative width to which a 2D neighbour's threshold is bisected.
 const BISECTED: f64 = 1e-7;
 
-/// The leaf reached from `leaf` by single-node changes of its contact set, each lowering the
-/// threshold (see the module docs), and the number of steps taken (`leaf` itself and 0 when
-/// none).
+/// The leaf reached from `leaf` by changes of its contact set (single nodes, or blocks where
+/// none of those improves), each lowering the threshold (see the module docs), and the number
+/// of steps taken (`leaf` itself and 0 when none).
 pub(super) fn improve(
     ctx: &Ctx,
     counters: &LpCounters,
@@ -66,23 +81,27 @@ pub(super) fn improve(
     let m = form.m;
     let mut current = leaf.clone();
     let mut steps = 0;
-    // The level of the last step: the next one starts a level deeper.
-    let mut last = 0usize;
+    let mut near: Option<Vec<Vec<usize>>> = None;
     while steps < MAX_STEPS_PER_NODE * m && !control.must_stop(0) {
-        let theta = current.theta;
-        // The deepest level first: a long step where one exists, a short one otherwise. A
-        // level deeper than the one tried found nothing, which bounds a 2D bisection below.
-        let start = last.saturating_sub(1);
-        let next = (start..STEPS.len()).find_map(|k| {
-            let level = theta * (1.0 - STEPS[k]);
-            let floor = if k > start {
-                theta * (1.0 - STEPS[k - 1])
-            } else {
-                0.0
-            };
-            last = k;
-            step(ctx, counters, control, &current, level, floor)
-        });
+        let singles: Vec<Vec<bool>> = (0..m)
+            .map(|j| {
+                let mut c = current.contact.clone();
+                c[j] = !c[j];
+                c
+            })
+            .collect();
+        let mut next = step(ctx, counters, control, &current, &singles);
+        if next.is_none() && !control.must_stop(0) {
+            // A local minimum of the single changes: the block moves.
+            let near = near.get_or_insert_with(|| nearest(form));
+            next = step(
+                ctx,
+                counters,
+                control,
+                &current,
+                &blocks(&current.contact, near),
+            );
+        }
         match next {
             Some(next) => {
                 current = next;
@@ -109,54 +128,130 @@ pub(super) fn improve(
     (current, steps)
 }
 
-/// The first neighbour of `current` in node order (its contact set changed at one node) that
-/// has a solution at `level` (below `current`'s threshold), with its own threshold; `None`
-/// when there is none.
+/// The move to take from `current`: among the `candidates` (contact sets near its own), the
+/// first in their order that has a solution at the deepest of the levels [`STEPS`] below
+/// `current`'s threshold at which any has one, with its own threshold; `None` when none has
+/// one at the shallowest level. The candidates are screened at the shallowest level first: a
+/// set with no solution there has none deeper (a solution at some `mu` is one at every larger
+/// `mu`), so the deeper levels test only the few that pass, and a local minimum costs one
+/// program per candidate.
 fn step(
     ctx: &Ctx,
     counters: &LpCounters,
     control: &Control,
     current: &Leaf,
-    level: f64,
-    floor: f64,
+    candidates: &[Vec<bool>],
 ) -> Option<Leaf> {
     let form = ctx.form;
-    let neighbour = |j: usize| {
-        let mut contact = current.contact.clone();
-        contact[j] = !contact[j];
-        contact
-    };
-    // The current leaf's own program at `level` (infeasible there) starts its neighbours'.
-    let (_, warm) = leaf_program(ctx, counters, &current.contact, level, None);
-    // The neighbours the linear program does not refute at `level`, in node order (an empty
+    let theta = current.theta;
+    let levels: Vec<f64> = STEPS.iter().map(|s| theta * (1.0 - s)).collect();
+    let shallowest = levels[levels.len() - 1];
+    // The current leaf's own program at the shallowest level (infeasible there) starts its
+    // neighbours'.
+    let (_, warm) = leaf_program(ctx, counters, &current.contact, shallowest, None);
+    // The candidates the linear program does not refute at `level`, in their order (an empty
     // point when the simplex method was unsure).
-    let open: Vec<(usize, Vec<f64>)> = (0..form.m)
-        .into_par_iter()
-        .filter_map(|j| {
-            let contact = neighbour(j);
-            if !contact.contains(&true) {
-                return None;
+    let open_at = |among: &[usize], level: f64| -> Vec<(usize, Vec<f64>)> {
+        among
+            .par_iter()
+            .filter_map(|&j| {
+                let contact = &candidates[j];
+                if !contact.contains(&true) {
+                    return None;
+                }
+                match leaf_program(ctx, counters, contact, level, warm.as_ref()).0 {
+                    Decision::No => None,
+                    Decision::Yes { r, .. } => Some((j, r)),
+                    Decision::Unsure(_) => Some((j, Vec::new())),
+                }
+            })
+            .collect()
+    };
+    let all: Vec<usize> = (0..candidates.len()).collect();
+    let screened = open_at(&all, shallowest);
+    if screened.is_empty() || control.must_stop(0) {
+        return None;
+    }
+    let passed: Vec<usize> = screened.iter().map(|(j, _)| *j).collect();
+    // The deepest level first: a long step where one exists, a short one otherwise. A level
+    // deeper than the one tried found nothing, which bounds a 2D bisection below.
+    (0..levels.len()).find_map(|k| {
+        let level = levels[k];
+        let floor = if k > 0 { levels[k - 1] } else { 0.0 };
+        let open = if k + 1 == levels.len() {
+            screened.clone()
+        } else {
+            open_at(&passed, level)
+        };
+        open.into_iter().find_map(|(j, r)| {
+            let contact = candidates[j].clone();
+            if form.dim == 2 && !r.is_empty() {
+                let (_, theta, r) = bisect(ctx, counters, &contact, floor, level, r, warm.as_ref());
+                return Some(Leaf {
+                    contact,
+                    theta,
+                    r,
+                    lower: 0.0,
+                });
             }
-            match leaf_program(ctx, counters, &contact, level, warm.as_ref()).0 {
-                Decision::No => None,
-                Decision::Yes { r, .. } => Some((j, r)),
-                Decision::Unsure(_) => Some((j, Vec::new())),
-            }
+            confirm(ctx, control, &contact, level, level).filter(|leaf| leaf.theta < current.theta)
         })
-        .collect();
-    open.into_iter().find_map(|(j, r)| {
-        let contact = neighbour(j);
-        if form.dim == 2 && !r.is_empty() {
-            let (_, theta, r) = bisect(ctx, counters, &contact, floor, level, r, warm.as_ref());
-            return Some(Leaf {
-                contact,
-                theta,
-                r,
-                lower: 0.0,
-            });
-        }
-        confirm(ctx, control, &contact, level, level).filter(|leaf| leaf.theta < current.theta)
     })
+}
+
+/// For each node, the other nodes by decreasing coupling in the stiffness: the Frobenius norm
+/// of their block of `K` over the geometric mean of the two nodes' own blocks' (ties by node
+/// number). A condensed stiffness couples neighbours along the contact boundary most and
+/// decays with the distance, so a node's first few are the nodes around it on the mesh,
+/// whatever their numbering.
+fn nearest(form: &Formulation) -> Vec<Vec<usize>> {
+    let k = form.problem.stiffness();
+    let (d, m) = (form.dim, form.m);
+    let block = |i: usize, j: usize| {
+        let mut s = 0.0;
+        for a in 0..d {
+            for b in 0..d {
+                s += k[(d * i + a, d * j + b)].powi(2);
+            }
+        }
+        s.sqrt()
+    };
+    let own: Vec<f64> = (0..m).map(|i| block(i, i)).collect();
+    (0..m)
+        .map(|j| {
+            let mut others: Vec<(f64, usize)> = (0..m)
+                .filter(|&i| i != j)
+                .map(|i| (block(i, j) / (own[i] * own[j]).sqrt(), i))
+                .collect();
+            others.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+            others.into_iter().map(|(_, i)| i).collect()
+        })
+        .collect()
+}
+
+/// The block moves of `contact` ([`BLOCKS`]): around each node, it and its nearest
+/// ([`nearest`]) all separated (around a contact node) or all in contact (around a separated
+/// one), in node order and by size; each new set once, and none that is `contact` itself or
+/// has no contact.
+fn blocks(contact: &[bool], near: &[Vec<usize>]) -> Vec<Vec<bool>> {
+    let mut out: Vec<Vec<bool>> = Vec::new();
+    let mut seen = HashSet::new();
+    seen.insert(contact.to_vec());
+    for (j, others) in near.iter().enumerate() {
+        for size in BLOCKS {
+            let size = size.min(others.len());
+            let mut c = contact.to_vec();
+            let to = !contact[j];
+            c[j] = to;
+            for &i in &others[..size] {
+                c[i] = to;
+            }
+            if c.contains(&true) && seen.insert(c.clone()) {
+                out.push(c);
+            }
+        }
+    }
+    out
 }
 
 /// The leaf of `contact` by its cone program: a solution at `level`, made exact, and the
@@ -331,6 +426,65 @@ pub(super) mod tests {
         Some(hi)
     }
 
+    /// On a chain (a stiffness coupling each node to its neighbours, more weakly to the next
+    /// ones, numbered out of order) a node's nearest are its neighbours along the chain, and
+    /// a block move lets go of (or presses) a run of the chain around a node.
+    #[test]
+    fn blocks_are_runs_of_the_chain() {
+        let m = 12;
+        // Chain position of node i: a shuffled numbering.
+        let at: Vec<usize> = (0..m).map(|i| (5 * i + 3) % m).collect();
+        let mut k = nalgebra::DMatrix::<f64>::zeros(2 * m, 2 * m);
+        for i in 0..m {
+            for j in 0..m {
+                let dist = at[i].abs_diff(at[j]);
+                let c = match dist {
+                    0 => 4.0,
+                    _ => -1.0 / (dist * dist * dist) as f64,
+                };
+                k[(2 * i, 2 * j)] = c;
+                k[(2 * i + 1, 2 * j + 1)] = 0.5 * c;
+            }
+        }
+        let problem = crate::Problem::new(2, k, 1.0).expect("a diagonally dominant stiffness");
+        let form = Formulation::new(&problem);
+        let near = nearest(&form);
+        for (j, others) in near.iter().enumerate() {
+            let first: Vec<usize> = others[..2].iter().map(|&i| at[i]).collect();
+            let expect = match at[j] {
+                0 => vec![1, 2],
+                p if p == m - 1 => vec![m - 2, m - 3],
+                p => vec![p - 1, p + 1],
+            };
+            let mut sorted = first.clone();
+            sorted.sort();
+            let mut expect_sorted = expect.clone();
+            expect_sorted.sort();
+            assert_eq!(sorted, expect_sorted, "node {j} at {}", at[j]);
+        }
+        // Contact on chain positions 2 to 9: around position 5, the run of 3 let go.
+        let contact: Vec<bool> = (0..m).map(|i| (2..=9).contains(&at[i])).collect();
+        let moves = blocks(&contact, &near);
+        assert!(!moves.contains(&contact));
+        let centre = (0..m).find(|&i| at[i] == 5).unwrap();
+        let run: Vec<bool> = (0..m)
+            .map(|i| contact[i] && !(4..=6).contains(&at[i]))
+            .collect();
+        assert!(
+            moves.contains(&run),
+            "no move lets go of 4..=6 around {centre}"
+        );
+        // Every move changes the set one way around its node: only let go, or only pressed.
+        for c in &moves {
+            let off = (0..m).filter(|&i| contact[i] && !c[i]).count();
+            let on = (0..m).filter(|&i| !contact[i] && c[i]).count();
+            assert!(off == 0 || on == 0, "{c:?}");
+            assert!(off + on >= 1 && c.contains(&true));
+        }
+        let unique: HashSet<&Vec<bool>> = moves.iter().collect();
+        assert_eq!(unique.len(), moves.len());
+    }
+
     /// The context of the tests' runs: `tol` 1e-9, a fresh tally.
     pub(in crate::critical) fn ctx<'a, 'b>(form: &'a Formulation<'b>) -> Ctx<'a, 'b> {
         Ctx {
@@ -405,8 +559,8 @@ pub(super) mod tests {
 
     /// From the worst leaf of small random problems (2D and 3D), the improvement lowers the
     /// threshold, never below the brute force's `mu*`, to the leaf's own threshold (checked by
-    /// bisection), and stops where no single-node change lowers it by more than 1e-5 (the
-    /// shallowest level, with a margin for the solvers).
+    /// bisection), and stops where no single-node change and no block move lowers it by more
+    /// than 1e-5 (the shallowest level, with a margin for the solvers).
     #[test]
     fn improvement_reaches_a_local_minimum_above_mu_star() {
         const CAP: f64 = 50.0;
@@ -466,6 +620,15 @@ pub(super) mod tests {
                     assert!(
                         t >= leaf.theta * (1.0 - 3e-5),
                         "{what}: node {j} lowers it to {t}"
+                    );
+                }
+            }
+            for block in blocks(&leaf.contact, &nearest(&form)) {
+                let other: usize = (0..m).filter(|&i| block[i]).map(|i| 1 << i).sum();
+                if let Some(t) = thresholds[other] {
+                    assert!(
+                        t >= leaf.theta * (1.0 - 3e-5),
+                        "{what}: the block move to {block:?} lowers it to {t}"
                     );
                 }
             }
