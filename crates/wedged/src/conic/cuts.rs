@@ -396,7 +396,11 @@ mod tests {
         let (mut checked, mut tighter) = (0, [0, 0]);
         // Settled in one part (a round's programs all with the last round's cuts) and in
         // three (each part with the cuts of those before it).
-        for (kind, settle) in [lp::Settle::InParts(1), lp::Settle::InParts(3)]
+        for (kind, settle) in [1, 3]
+            .map(|parts| lp::Settle::InParts {
+                parts,
+                until: lp::SETTLED,
+            })
             .into_iter()
             .enumerate()
         {

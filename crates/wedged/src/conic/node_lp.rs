@@ -534,9 +534,9 @@ pub(crate) fn tighten_node(
     let mut kept: Option<Extremes> = None;
     // Programs per round come in `parts`; a settled tightening takes at most `SETTLE_ROUNDS`
     // whole rounds.
-    let (parts, rounds) = match settle {
-        Settle::Once => (1, 1),
-        Settle::InParts(parts) => (parts.max(1), SETTLE_ROUNDS * parts.max(1)),
+    let (parts, rounds, until) = match settle {
+        Settle::Once => (1, 1, SETTLED),
+        Settle::InParts { parts, until } => (parts.max(1), SETTLE_ROUNDS * parts.max(1), until),
     };
     // The largest shrink over the parts of the present round.
     let mut shrunk = 0.0f64;
@@ -591,7 +591,7 @@ pub(crate) fn tighten_node(
             break;
         }
         if (pass + 1) % parts == 0 {
-            if shrunk <= SETTLED {
+            if shrunk <= until {
                 break;
             }
             shrunk = 0.0;
@@ -602,7 +602,7 @@ pub(crate) fn tighten_node(
 }
 
 /// How many rounds a tightening ([`tighten_node`]) takes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum Settle {
     /// One round: every free node's two programs over the node's relaxation.
     Once,
@@ -613,13 +613,14 @@ pub(crate) enum Settle {
     /// round with the last round's cuts). A part has the programs of a round over as many
     /// nodes, so a round costs about the same, and its later parts start from tighter cuts.
     /// (`critical`'s passes and the enumeration's root settle in three: `critical/bnb/tuning.rs`,
-    /// `rays/search/tree.rs`.)
-    InParts(usize),
+    /// `rays/search/tree.rs`.) The rounds stop when no bound interval shrinks by more than
+    /// `until` of its width in a whole round ([`SETTLED`] unless a search measured better).
+    InParts { parts: usize, until: f64 },
 }
 
 /// A settled tightening ([`tighten_node`]) stops when no bound interval shrinks by more than
 /// this share of its width...
-const SETTLED: f64 = 0.05;
+pub(crate) const SETTLED: f64 = 0.05;
 /// ... or after this many rounds.
 const SETTLE_ROUNDS: usize = 30;
 

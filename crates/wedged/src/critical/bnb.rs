@@ -55,8 +55,8 @@ use crate::shard::{self, Explored, Shard, Walk};
 
 mod tuning;
 use tuning::{
-    bars, DIVE_NODES_PER_NODE, RESTART, RETIGHTEN_DEPTH, ROUNDED, SETTLED_TIGHTEN_DEPTH,
-    SETTLE_DEPTH, SETTLE_FROM, SETTLE_PARTS, STALE, TIGHTEN_DEPTH,
+    bars, DIVE_NODES_PER_NODE, PASS_SETTLED, RESTART, RETIGHTEN_DEPTH, ROUNDED,
+    SETTLED_TIGHTEN_DEPTH, SETTLE_DEPTH, SETTLE_FROM, SETTLE_PARTS, STALE, TIGHTEN_DEPTH,
 };
 
 /// The test hooks of a run ([`crate::run::Fault`]).
@@ -398,8 +398,14 @@ impl shard::Tree for Search<'_, '_, '_> {
                     },
                     match (settle, self.dive.load(Ordering::Relaxed)) {
                         (false, _) => lp::Settle::Once,
-                        (true, true) => lp::Settle::InParts(1),
-                        (true, false) => lp::Settle::InParts(SETTLE_PARTS),
+                        (true, true) => lp::Settle::InParts {
+                            parts: 1,
+                            until: lp::SETTLED,
+                        },
+                        (true, false) => lp::Settle::InParts {
+                            parts: SETTLE_PARTS,
+                            until: PASS_SETTLED,
+                        },
                     },
                     &|| self.control.must_stop(0),
                 )

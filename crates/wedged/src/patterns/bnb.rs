@@ -205,7 +205,10 @@ impl shard::Tree for Search<'_, '_> {
                     previous: extremes.as_deref().map(|e| &e[..]),
                 },
                 if settle {
-                    lp::Settle::InParts(1)
+                    lp::Settle::InParts {
+                        parts: 1,
+                        until: lp::SETTLED,
+                    }
                 } else {
                     lp::Settle::Once
                 },

@@ -51,6 +51,16 @@ pub(super) const SETTLE_DEPTH: usize = 1;
 /// stopped above `mu*` at m = 120: 31 s, 77.7k nodes.)
 pub(super) const SETTLE_PARTS: usize = 3;
 
+/// A pass's settling nodes stop settling when no bound interval shrinks by more than this
+/// share of its width in a round (other settled tightenings: [`crate::conic::node_lp::SETTLED`],
+/// 0.05). At `mu*` the pass's root shrinks every interval by a few percent a part for dozens of
+/// parts before they collapse; stopped at 5% it had left the refutation to its children.
+/// (Measured on the 2D plug with the block moves' local search, `farm-bench --vs` on one
+/// build, 0.01 against 0.05, paired wall medians, 2026-11-28: m = 100 1.02 (`-n 5`), m = 120
+/// 0.99 (`-n 5`), m = 140 **0.77** (13.0 against 16.8 s, `-n 3`; the root refutes alone, 2
+/// nodes against 4), m = 160 0.98 (`-n 2`); one run each, m = 200 105 against 102 to 104 s.)
+pub(super) const PASS_SETTLED: f64 = 0.01;
+
 /// The dive's first leaf in 2D is the root's relaxed solution rounded: the contact set of the
 /// nodes pressed by more than this fraction of the most pressed, its leaf by [`super::leaf_of`]
 /// (a few linear programs), then improved ([`super::improve`]). On the 2D plug the dive finds

@@ -337,7 +337,10 @@ impl shard::Tree for Search<'_, '_> {
                     previous: extremes.as_deref().map(|e| &e[..]),
                 },
                 if settle {
-                    node_lp::Settle::InParts(SETTLE_PARTS)
+                    node_lp::Settle::InParts {
+                        parts: SETTLE_PARTS,
+                        until: node_lp::SETTLED,
+                    }
                 } else {
                     node_lp::Settle::Once
                 },
