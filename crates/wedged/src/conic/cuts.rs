@@ -174,6 +174,8 @@ pub(crate) fn tighten(
         .enumerate()
         .filter(|&(n, _)| n % parts.max(1) == k)
         .map(|(_, j)| j)
+        // A decided node's cut no longer depends on its bounds: no programs.
+        .filter(|&j| !decided(out[j]))
         .collect();
     // Each free node's two programs (`None` when one is infeasible): the node and its new
     // bounds, each `None` when the solver was unsure. (Starting each program from the basis
@@ -183,10 +185,6 @@ pub(crate) fn tighten(
     let found: Option<Vec<NewBounds>> = free
         .par_iter()
         .map(|&j| {
-            if decided(out[j]) {
-                // Its cut no longer depends on the bounds: no programs.
-                return Some((j, None, None));
-            }
             if stop() {
                 // The run is stopping: this node's bounds stay as they were (valid, looser).
                 return Some((j, None, None));

@@ -509,9 +509,10 @@ pub(crate) struct Starts<'a> {
 /// pivots), m = 80 24.6 -> 21.1 s; the 3D V-groove at m = 20 unchanged.)
 ///
 /// Settled ([`Settle::InParts`]), the tightening is repeated with the cuts of the bounds it
-/// found until no bound interval shrinks by more than [`SETTLED`] of its width (at most
-/// [`SETTLE_ROUNDS`] rounds): each round's cuts tighten the next round's relaxation. The
-/// searches settle their root's bounds, which every node inherits. (Measured on issue 20's
+/// found until no bound interval shrinks by more than its `until` ([`SETTLED`] but in
+/// `critical`'s passes) of its width in a round (at most [`SETTLE_ROUNDS`] rounds): each
+/// round's cuts tighten the next round's relaxation. The searches settle their root's bounds,
+/// which every node inherits. (Measured on issue 20's
 /// plug, `enumerate`, whole process: m = 60, the root tightened once, 3, 8, 12, 20 times:
 /// 46.5k, 41.6k, 27.1k, 22.8k, 16.2k nodes, 1.03M, 0.93M, 0.67M, 0.64M, 0.62M pivots; settled,
 /// 17.2k nodes, 0.59M pivots.)

@@ -207,15 +207,7 @@ fn step(
 fn nearest(form: &Formulation) -> Vec<Vec<usize>> {
     let k = form.problem.stiffness();
     let (d, m) = (form.dim, form.m);
-    let block = |i: usize, j: usize| {
-        let mut s = 0.0;
-        for a in 0..d {
-            for b in 0..d {
-                s += k[(d * i + a, d * j + b)].powi(2);
-            }
-        }
-        s.sqrt()
-    };
+    let block = |i: usize, j: usize| k.view((d * i, d * j), (d, d)).norm();
     let own: Vec<f64> = (0..m).map(|i| block(i, i)).collect();
     (0..m)
         .map(|j| {
