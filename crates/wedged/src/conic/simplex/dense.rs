@@ -66,79 +66,152 @@ pub(super) fn invert(lp: &Lp, head: &[usize]) -> Option<Vec<f64>> {
     if open.len() != s {
         return None;
     }
+    // The basis's structural columns: on the open rows `M` (row-major, inverted in place
+    // below), on the rows its slacks cover `C` (row-major, `r - s` by `s`).
+    let covered: Vec<usize> = (0..r).filter(|&k| covering[k] != usize::MAX).collect();
+    let gather = |rows: &[usize]| {
+        let mut out = pool::zeroed(rows.len() * s);
+        for (q, &k) in rows.iter().enumerate() {
+            let row = lp.row(k);
+            for (p, &c) in structural.iter().enumerate() {
+                out[q * s + p] = row[head[c]];
+            }
+        }
+        out
+    };
+    let mut m = gather(&open);
+    let cov = gather(&covered);
     // The scale the pivots are judged against: the basis's entries (its slacks' 1s included).
-    let mut scale = 1.0f64;
-    for k in 0..r {
-        let row = lp.row(k);
-        for &c in &structural {
-            scale = scale.max(row[head[c]].abs());
-        }
-    }
-    // [M | I], row-major, 2s wide.
-    let w = 2 * s;
-    let mut m = pool::zeroed(s * w);
-    for (q, &k) in open.iter().enumerate() {
-        let row = lp.row(k);
-        for (p, &c) in structural.iter().enumerate() {
-            m[q * w + p] = row[head[c]];
-        }
-        m[q * w + s + q] = 1.0;
-    }
+    let scale = largest_size(&m).max(largest_size(&cov)).max(1.0);
+    // M inverted in place: Gauss-Jordan with partial pivoting, each pivot's column taking the
+    // inverse's as it goes (`s^3` multiply-adds against `2 s^3` on `[M | I]`), the row swaps
+    // undone as column swaps at the end.
+    let mut swaps = vec![0usize; s];
+    let mut pivot_row = vec![0.0; s];
     for c in 0..s {
-        let p = (c..s).max_by(|&a, &b| m[a * w + c].abs().total_cmp(&m[b * w + c].abs()))?;
-        let pivot = m[p * w + c];
+        let p = (c..s).max_by(|&a, &b| m[a * s + c].abs().total_cmp(&m[b * s + c].abs()))?;
+        let pivot = m[p * s + c];
         if pivot.abs() <= 1e-12 * scale {
             pool::recycle(m);
             return None;
         }
+        swaps[c] = p;
         if p != c {
-            for x in 0..w {
-                m.swap(p * w + x, c * w + x);
+            for x in 0..s {
+                m.swap(p * s + x, c * s + x);
             }
         }
         let inv_p = 1.0 / pivot;
-        for x in 0..w {
-            m[c * w + x] *= inv_p;
+        m[c * s + c] = 1.0;
+        for x in 0..s {
+            m[c * s + x] *= inv_p;
         }
-        let pivot_row: Vec<f64> = m[c * w..(c + 1) * w].to_vec();
+        pivot_row.copy_from_slice(&m[c * s..(c + 1) * s]);
         for k in (0..s).filter(|&k| k != c) {
-            let f = m[k * w + c];
+            let f = m[k * s + c];
             if f != 0.0 {
+                m[k * s + c] = 0.0;
                 // `a - f b`, the same bits as `a + (-f) b`.
-                axpy(&mut m[k * w..(k + 1) * w], -f, &pivot_row);
+                axpy(&mut m[k * s..(k + 1) * s], -f, &pivot_row);
             }
         }
     }
-    // Row p of M^-1 is m[p * w + s..(p + 1) * w]: x_S[p] from b over the open rows.
+    for c in (0..s).rev() {
+        let p = swaps[c];
+        if p != c {
+            for row in m.chunks_exact_mut(s) {
+                row.swap(p, c);
+            }
+        }
+    }
+    // Row p of M^-1 is m[p * s..(p + 1) * s]: x_S[p] from b over the open rows.
     let mut inv = pool::zeroed(r * r);
-    let mut along = vec![0.0; s];
     for (p, &c) in structural.iter().enumerate() {
         let out = &mut inv[c * r..(c + 1) * r];
         for (q, &k) in open.iter().enumerate() {
-            out[k] = m[p * w + s + q];
+            out[k] = m[p * s + q];
         }
     }
-    for k in 0..r {
-        let c = covering[k];
-        if c == usize::MAX {
-            continue;
-        }
-        let row = lp.row(k);
-        along.iter_mut().for_each(|x| *x = 0.0);
-        for (p, &sc) in structural.iter().enumerate() {
-            let a = row[head[sc]];
-            if a != 0.0 {
-                axpy(&mut along, a, &m[p * w + s..(p + 1) * w]);
-            }
-        }
-        let out = &mut inv[c * r..(c + 1) * r];
+    // The slacks' rows, `C M^-1`.
+    let slack_rows = times_tiled(&cov, &m, s);
+    for (g, &k) in covered.iter().enumerate() {
+        let out = &mut inv[covering[k] * r..(covering[k] + 1) * r];
         for (q, &kq) in open.iter().enumerate() {
-            out[kq] = along[q];
+            out[kq] = slack_rows[g * s + q];
         }
         out[k] = -1.0;
     }
     pool::recycle(m);
+    pool::recycle(cov);
+    pool::recycle(slack_rows);
     Some(inv)
+}
+
+/// The largest `|x|` of `values` (0 for none), on four running maxima.
+fn largest_size(values: &[f64]) -> f64 {
+    let mut most = [0.0f64; 4];
+    let chunks = values.chunks_exact(4);
+    let tail = chunks
+        .remainder()
+        .iter()
+        .fold(0.0f64, |a, x| a.max(x.abs()));
+    for c in chunks {
+        for k in 0..4 {
+            most[k] = most[k].max(c[k].abs());
+        }
+    }
+    most.iter().fold(tail, |a, &x| a.max(x))
+}
+
+kernel! {
+    /// `C B` for `C` row-major with `s` columns and `B` row-major `s` by `s`: each entry summed
+    /// over `p` in order from `+0` (the bits of one `axpy` per term, row by row), in tiles of
+    /// four rows by eight columns held in registers across the sum.
+    fn times_tiled(c: &[f64], b: &[f64], s: usize) -> Vec<f64> {
+        let rows = c.len() / s.max(1);
+        let mut out = pool::zeroed(rows * s);
+        let whole = s / 8 * 8;
+        let mut i0 = 0;
+        while i0 < rows {
+            let h = (rows - i0).min(4);
+            let mut q0 = 0;
+            while q0 < whole {
+                let mut acc = [[0.0f64; 8]; 4];
+                for p in 0..s {
+                    let bp: &[f64; 8] = b[p * s + q0..p * s + q0 + 8].try_into().expect("eight");
+                    for (i, row) in acc.iter_mut().enumerate().take(h) {
+                        let f = c[(i0 + i) * s + p];
+                        for j in 0..8 {
+                            row[j] += f * bp[j];
+                        }
+                    }
+                }
+                for (i, row) in acc.iter().enumerate().take(h) {
+                    out[(i0 + i) * s + q0..(i0 + i) * s + q0 + 8].copy_from_slice(row);
+                }
+                q0 += 8;
+            }
+            if whole < s {
+                // The last columns, fewer than eight: the same tile, partly used.
+                let w = s - whole;
+                let mut acc = [[0.0f64; 8]; 4];
+                for p in 0..s {
+                    let bp = &b[p * s + whole..(p + 1) * s];
+                    for (i, row) in acc.iter_mut().enumerate().take(h) {
+                        let f = c[(i0 + i) * s + p];
+                        for j in 0..w {
+                            row[j] += f * bp[j];
+                        }
+                    }
+                }
+                for (i, row) in acc.iter().enumerate().take(h) {
+                    out[(i0 + i) * s + whole..(i0 + i + 1) * s].copy_from_slice(&row[..w]);
+                }
+            }
+            i0 += h;
+        }
+        out
+    }
 }
 
 kernel! {
@@ -290,6 +363,25 @@ mod tests {
                 product[k].to_bits(),
                 dot(&inv[k * r..(k + 1) * r], &v).to_bits()
             );
+        }
+        // `C B` in tiles: the bits of one `axpy` per term, row by row, for every shape of
+        // the tiles' edges (rows not a multiple of four, columns not of eight), zeros in `C`.
+        for (rows, s) in [(1, 1), (3, 7), (4, 8), (5, 9), (9, 17), (12, 30)] {
+            let mut c = values(rows * s, 20 + s as u64);
+            c.iter_mut().step_by(3).for_each(|x| *x = 0.0);
+            let b = values(s * s, 40 + rows as u64);
+            let tiled = times_tiled(&c, &b, s);
+            for i in 0..rows {
+                let mut row = vec![0.0; s];
+                for p in 0..s {
+                    if c[i * s + p] != 0.0 {
+                        axpy(&mut row, c[i * s + p], &b[p * s..(p + 1) * s]);
+                    }
+                }
+                for q in 0..s {
+                    assert_eq!(tiled[i * s + q].to_bits(), row[q].to_bits(), "times_tiled");
+                }
+            }
         }
         let alpha = values(r, 9);
         let p = 4;
