@@ -439,7 +439,8 @@ pub(crate) fn decide(
 /// The relaxation of a search node (`classes` at `shape`, `sum r_n = 1`) as the closure that
 /// [`cuts::tighten`] minimises over, each program started from `start`, or from `previous`'s
 /// basis for the same program (its key, [`cuts::tighten`]) when there is one; with `found`,
-/// each program's final basis is kept there (shelved) under its key.
+/// each program's final basis is kept there (shelved, with the row activities of its optimum)
+/// under its key.
 pub(crate) fn relaxation<'a>(
     form: &'a Formulation,
     counters: &'a LpCounters,
@@ -468,11 +469,7 @@ pub(crate) fn relaxation<'a>(
         );
         if let (Some(found), Some(basis)) = (found, basis) {
             if let Some(slot) = found.get(key) {
-                let shelved = basis.shelved();
-                *slot.lock().expect("no panics while held") = Some(Warm {
-                    basis: shelved.basis.all_rows(),
-                    ..shelved
-                });
+                *slot.lock().expect("no panics while held") = Some(basis.shelved());
             }
         }
         decision
@@ -490,6 +487,15 @@ pub(crate) type Extremes = Vec<Option<Warm>>;
 pub(crate) struct Starts<'a> {
     pub warm: Option<&'a Warm>,
     pub previous: Option<&'a [Option<Warm>]>,
+    /// Whether a program's own basis leaves out the rows that were loose at its last optimum
+    /// (the simplex method's `active`; they join again where the new optimum breaks them),
+    /// or starts with every row. The same program's optimum moves little from round to round,
+    /// so the rows loose there mostly stay so, and every pivot and refactoring works on fewer
+    /// rows. (Measured, `farm-bench --vs` on one build, paired wall medians, 2026-11-28:
+    /// `critical` on the 2D plug m = 50 0.94, m = 100 0.90, m = 140 0.93 (one run), the 3D
+    /// V-groove m = 40 0.97, each with the same programs and answer; `enumerate` on the 2D
+    /// plug at m = 80 1.05, so it keeps every row.)
+    pub loose: bool,
 }
 
 /// Bound tightening at a search node ([`cuts::tighten`] over its relaxation at `shape`): the
@@ -525,7 +531,11 @@ pub(crate) fn tighten_node(
     settle: Settle,
     stop: &(dyn Fn() -> bool + Sync),
 ) -> Option<(Drive, Option<Warm>, Extremes)> {
-    let Starts { warm, previous } = start;
+    let Starts {
+        warm,
+        previous,
+        loose,
+    } = start;
     let mut known: Option<Arc<Drive>> = shape.drive.cloned();
     let mut warm = warm.cloned();
     let found: Vec<std::sync::Mutex<Option<Warm>>> = (0..2 * form.m)
@@ -578,6 +588,13 @@ pub(crate) fn tighten_node(
             .enumerate()
             .map(|(key, f)| {
                 let own = f.lock().expect("no panics while held").take();
+                let own = own.map(|w| match loose {
+                    true => w,
+                    false => Warm {
+                        basis: w.basis.all_rows(),
+                        ..w
+                    },
+                });
                 own.or_else(|| kept.as_deref().or(previous)?.get(key)?.clone())
             })
             .collect();

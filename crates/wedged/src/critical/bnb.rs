@@ -395,6 +395,7 @@ impl shard::Tree for Search<'_, '_, '_> {
                     lp::Starts {
                         warm: warm.as_deref(),
                         previous,
+                        loose: true,
                     },
                     match (settle, self.dive.load(Ordering::Relaxed)) {
                         (false, _) => lp::Settle::Once,

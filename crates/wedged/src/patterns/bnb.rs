@@ -203,6 +203,7 @@ impl shard::Tree for Search<'_, '_> {
                 lp::Starts {
                     warm: warm.as_deref(),
                     previous: extremes.as_deref().map(|e| &e[..]),
+                    loose: false,
                 },
                 if settle {
                     lp::Settle::InParts {

@@ -335,6 +335,7 @@ impl shard::Tree for Search<'_, '_> {
                 node_lp::Starts {
                     warm: warm.as_deref(),
                     previous: extremes.as_deref().map(|e| &e[..]),
+                    loose: false,
                 },
                 if settle {
                     node_lp::Settle::InParts {
