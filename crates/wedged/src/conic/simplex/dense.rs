@@ -87,7 +87,7 @@ pub(super) fn invert(lp: &Lp, head: &[usize]) -> Option<Vec<f64>> {
     // inverse's as it goes (`s^3` multiply-adds against `2 s^3` on `[M | I]`), the row swaps
     // undone as column swaps at the end.
     let mut swaps = vec![0usize; s];
-    let mut pivot_row = vec![0.0; s];
+    let mut column = vec![0.0; s];
     for c in 0..s {
         let p = (c..s).max_by(|&a, &b| m[a * s + c].abs().total_cmp(&m[b * s + c].abs()))?;
         let pivot = m[p * s + c];
@@ -101,20 +101,13 @@ pub(super) fn invert(lp: &Lp, head: &[usize]) -> Option<Vec<f64>> {
                 m.swap(p * s + x, c * s + x);
             }
         }
-        let inv_p = 1.0 / pivot;
-        m[c * s + c] = 1.0;
-        for x in 0..s {
-            m[c * s + x] *= inv_p;
+        // Column `c` becomes the inverse's: `e_c` before the pivot's update, which divides
+        // row `c` by the pivot and takes `m_kc` times it from every other row `k`.
+        for (k, x) in column.iter_mut().enumerate() {
+            *x = m[k * s + c];
+            m[k * s + c] = if k == c { 1.0 } else { 0.0 };
         }
-        pivot_row.copy_from_slice(&m[c * s..(c + 1) * s]);
-        for k in (0..s).filter(|&k| k != c) {
-            let f = m[k * s + c];
-            if f != 0.0 {
-                m[k * s + c] = 0.0;
-                // `a - f b`, the same bits as `a + (-f) b`.
-                axpy(&mut m[k * s..(k + 1) * s], -f, &pivot_row);
-            }
-        }
+        eliminate(&mut m, s, c, &column);
     }
     for c in (0..s).rev() {
         let p = swaps[c];
