@@ -436,32 +436,32 @@ pub(crate) fn decide(
     }
 }
 
-/// The relaxation of a search node (`classes` at `shape`, `sum r_n = 1`) as the closure that
-/// [`cuts::tighten`] minimises over, each program started from `start`, or from `previous`'s
+/// The relaxation of a search node (the classes [`cuts::tighten`] hands it, at `shape`, `sum
+/// r_n = 1`) as the closure that [`cuts::tighten`] minimises over, each program started from
+/// `start`, or from `previous`'s
 /// basis for the same program (its key, [`cuts::tighten`]) when there is one; with `found`,
 /// each program's final basis is kept there (shelved, with the row activities of its optimum)
 /// under its key.
 pub(crate) fn relaxation<'a>(
     form: &'a Formulation,
     counters: &'a LpCounters,
-    classes: &'a [Class],
     shape: Shape<'a>,
     start: Option<Warm>,
     previous: Option<&'a [Option<Warm>]>,
     found: Option<&'a [std::sync::Mutex<Option<Warm>>]>,
-) -> impl Fn(usize, &[f64]) -> Decision + Sync + 'a {
+) -> impl Fn(usize, &[Class], &[f64]) -> Decision + Sync + 'a {
     // A tightening program's optimum lies far from the start's point: leaving out the rows
     // loose there costs more pivots than it saves (see the simplex method's `active`).
     let start = start.map(|w| Warm {
         basis: w.basis.all_rows(),
         ..w
     });
-    move |key: usize, objective: &[f64]| {
+    move |key: usize, fixed: &[Class], objective: &[f64]| {
         let own = previous.and_then(|p| p.get(key)).and_then(|w| w.as_ref());
         let (decision, basis) = decide(
             form,
             counters,
-            classes,
+            fixed,
             shape,
             Norm::Sum,
             Some(objective),
@@ -572,7 +572,6 @@ pub(crate) fn tighten_node(
         let minimise = relaxation(
             form,
             counters,
-            classes,
             round,
             start.clone(),
             kept.as_deref().or(previous),

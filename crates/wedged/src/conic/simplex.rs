@@ -53,17 +53,20 @@
 //!
 //! **Feasibility programs** (no costs at all) are dual degenerate at every basis, and the dual
 //! method could cycle on them; their nonbasic variables get small distinct costs
-//! ([`PERTURB`]) for the dual method, dropped before the primal one.
+//! ([`PERTURB`]) for the dual method, dropped before the primal one. Other programs get them
+//! when the dual method has made [`STALL`] steps of length zero in a row; the primal method
+//! then pivots by Bland's rule until a step moves again.
 
 mod active;
 mod check;
 mod dense;
 mod pool;
+mod steps;
 
 use std::sync::Arc;
 
 use check::{check_certificate, check_point};
-use dense::{axpy, dot, eliminate, invert, times};
+use dense::{axpy, invert};
 
 /// Feasibility and optimality tolerance, relative to the terms of each quantity.
 const TOL: f64 = 1e-9;
@@ -76,6 +79,9 @@ const TINY: f64 = 1e-12;
 /// Values and reduced costs, updated at each pivot, are recomputed from the inverse after
 /// this many pivots (and before every verdict).
 const REFRESH: u64 = 32;
+/// Degenerate primal steps in a row after which the primal method pivots by Bland's rule
+/// ([`Run::solve`]).
+const STALL: u64 = 64;
 /// How often a basis whose optimal point fails its check is refactored ([`attempt`]).
 const REFINE: usize = 2;
 /// The size of the costs that a program without costs gets for its dual method
@@ -388,141 +394,6 @@ impl<'a> Run<'a> {
         self.basis.inv.as_deref().expect("inverted before the run")
     }
 
-    /// Puts every nonbasic variable at a bound it has (a free one at zero).
-    fn settle_nonbasic(&mut self) {
-        let lp = self.lp;
-        for j in 0..lp.total() {
-            let (lo, hi) = (lp.lo[j], lp.hi[j]);
-            let at = &mut self.basis.at[j];
-            if *at == At::Basic {
-                continue;
-            }
-            *at = match *at {
-                _ if lo == hi => At::Lower,
-                At::Upper if hi.is_finite() => At::Upper,
-                At::Lower if lo.is_finite() => At::Lower,
-                _ if lo.is_finite() => At::Lower,
-                _ if hi.is_finite() => At::Upper,
-                _ => At::Zero,
-            };
-            self.x[j] = match *at {
-                At::Lower => lo,
-                At::Upper => hi,
-                _ => 0.0,
-            };
-        }
-    }
-
-    /// Basic values from the nonbasic ones: `x_B = -B^-1 N x_N`.
-    fn primal(&mut self) {
-        let lp = self.lp;
-        let n = lp.n;
-        // The nonbasic columns' values (zero at the basic ones).
-        let xn: Vec<f64> = (0..n)
-            .map(|j| {
-                if self.basis.at[j] == At::Basic {
-                    0.0
-                } else {
-                    self.x[j]
-                }
-            })
-            .collect();
-        let any = xn.iter().any(|&v| v != 0.0);
-        let rhs: Vec<f64> = (0..lp.rows)
-            .map(|k| {
-                let from_columns = if any { -dot(lp.row(k), &xn) } else { 0.0 };
-                let j = n + k;
-                let own = if self.basis.at[j] != At::Basic {
-                    self.x[j]
-                } else {
-                    0.0
-                };
-                from_columns + own
-            })
-            .collect();
-        let xb = times(self.inv(), &rhs);
-        for (k, v) in xb.into_iter().enumerate() {
-            let j = self.basis.head[k];
-            self.x[j] = v;
-        }
-    }
-
-    /// Reduced costs: `d = c - (c_B B^-1) [A  -I]`.
-    fn dual(&mut self) {
-        let r = self.lp.rows;
-        let inv = self.inv();
-        let mut y = vec![0.0; r];
-        for (k, &j) in self.basis.head.iter().enumerate() {
-            let c = self.cost[j];
-            if c != 0.0 {
-                axpy(&mut y, c, &inv[k * r..(k + 1) * r]);
-            }
-        }
-        let ya = self.lp.row_times(&y);
-        for (j, d) in self.d.iter_mut().enumerate() {
-            *d = if self.basis.at[j] == At::Basic {
-                0.0
-            } else {
-                self.cost[j] - ya[j]
-            };
-        }
-    }
-
-    /// How far basic variable `j` is below its lower bound (negative) or above its upper
-    /// bound (positive), beyond the tolerance; zero when within.
-    fn violation(&self, j: usize) -> f64 {
-        let (v, lo, hi) = (self.x[j], self.lp.lo[j], self.lp.hi[j]);
-        if v < lo - TOL * (1.0 + lo.abs()) {
-            v - lo
-        } else if v > hi + TOL * (1.0 + hi.abs()) {
-            v - hi
-        } else {
-            0.0
-        }
-    }
-
-    /// Whether nonbasic `j`'s reduced cost has the wrong sign for where it sits.
-    fn dual_wrong(&self, j: usize) -> bool {
-        let d = self.d[j];
-        match self.basis.at[j] {
-            At::Basic => false,
-            _ if self.lp.lo[j] == self.lp.hi[j] => false,
-            At::Lower => d < -TOL,
-            At::Upper => d > TOL,
-            At::Zero => d.abs() > TOL,
-        }
-    }
-
-    /// Pivots `q` into row position `p`, with `alpha = B^-1 a_q`; the leaving variable goes to
-    /// `leave_at`.
-    fn pivot(&mut self, p: usize, q: usize, alpha: &[f64], leave_at: At) {
-        let r = self.lp.rows;
-        let out = self.basis.head[p];
-        let inv = self.basis.inv.as_mut().expect("inverted before the run");
-        eliminate(inv, r, p, alpha);
-        self.basis.head[p] = q;
-        self.basis.at[q] = At::Basic;
-        self.basis.at[out] = leave_at;
-        self.x[out] = match leave_at {
-            At::Lower => self.lp.lo[out],
-            At::Upper => self.lp.hi[out],
-            _ => 0.0,
-        };
-    }
-
-    /// `B^-1 a_q`.
-    fn column(&self, q: usize) -> Vec<f64> {
-        let (lp, r) = (self.lp, self.lp.rows);
-        let inv = self.inv();
-        if q < lp.n {
-            let col: Vec<f64> = (0..r).map(|k| lp.row(k)[q]).collect();
-            times(inv, &col)
-        } else {
-            let i = q - lp.n;
-            (0..r).map(|k| -inv[k * r + i]).collect()
-        }
-    }
-
     fn solve(&mut self, stats: &mut Stats) -> Result<Outcome, String> {
         let limit = 50 * (self.lp.total() as u64) + 1000;
         let mut steps = 0u64;
@@ -539,14 +410,14 @@ impl<'a> Run<'a> {
             // Each nonbasic variable then gets a small cost of the right sign, a different
             // one for each, dropped with the shifts once the basis is primal feasible.
             let perturb = lp.cost.iter().all(|&c| c == 0.0);
+            if perturb {
+                shifted |= self.perturb_costs();
+            }
             for j in 0..lp.total() {
-                let at = self.basis.at[j];
-                if perturb && at != At::Basic && at != At::Zero && lp.lo[j] != lp.hi[j] {
-                    let spread = ((j as u64).wrapping_mul(2_654_435_761) % 1024) as f64 / 1024.0;
-                    let size = PERTURB * (1.0 + spread);
-                    self.cost[j] = if at == At::Lower { size } else { -size };
-                    shifted = true;
-                } else if self.dual_wrong(j) {
+                if perturb {
+                    continue;
+                }
+                if self.dual_wrong(j) {
                     self.cost[j] -= self.d[j];
                     shifted = true;
                 }
@@ -557,10 +428,23 @@ impl<'a> Run<'a> {
             // Values and reduced costs are updated at each pivot, recomputed every
             // `REFRESH` pivots and before a verdict.
             let mut since = 0u64;
+            // Consecutive dual steps of length zero: from `STALL` on, the costs are perturbed
+            // (once) as a feasibility program's are, so that the ratio tests stop tying. (A
+            // bound-tightening program with its node fixed cycled into the pivot limit twice
+            // on the 2D plug at m = 100.)
+            let mut stalled = 0u64;
+            let mut perturbed = perturb;
             loop {
                 steps += 1;
                 if steps > limit {
                     return Err(format!("no answer after {limit} pivots"));
+                }
+                if stalled >= STALL && !perturbed {
+                    perturbed = true;
+                    shifted |= self.perturb_costs();
+                    self.dual();
+                    since = 0;
+                    stalled = 0;
                 }
                 // The most infeasible basic variable leaves.
                 let Some((p, v)) = (0..lp.rows)
@@ -642,6 +526,11 @@ impl<'a> Run<'a> {
                 }
                 // The dual step, then the primal one.
                 let theta = (-self.d[q] / (s * arq)).max(0.0);
+                if theta * arq.abs() <= TOL {
+                    stalled += 1;
+                } else {
+                    stalled = 0;
+                }
                 for (j, &a) in alpha_row.iter().enumerate() {
                     if self.basis.at[j] != At::Basic && a != 0.0 {
                         self.d[j] += theta * s * a;
@@ -677,18 +566,26 @@ impl<'a> Run<'a> {
         // `REFRESH` pivots and before optimality is declared.
         let mut weight = vec![1.0f64; lp.total()];
         let mut since = 0u64;
+        // Consecutive steps that moved nothing; from `STALL` on, Bland's rule (the first
+        // candidate by index to enter, the first by index among the least ratios to leave)
+        // until a step moves again: Devex with Harris's ratio test can cycle on a degenerate
+        // vertex (a bound-tightening program with its node fixed ran into the pivot limit
+        // twice on the 2D plug at m = 100).
+        let mut stalled = 0u64;
         loop {
             steps += 1;
             if steps > limit {
                 return Err(format!("no answer after {limit} pivots"));
             }
+            let bland = stalled >= STALL;
             let pick = |run: &Run| {
-                (0..lp.total())
-                    .filter(|&j| run.dual_wrong(j))
-                    .max_by(|&a, &b| {
-                        (run.d[a] * run.d[a] / weight[a])
-                            .total_cmp(&(run.d[b] * run.d[b] / weight[b]))
-                    })
+                let wrong = (0..lp.total()).filter(|&j| run.dual_wrong(j));
+                if bland {
+                    return wrong.min();
+                }
+                wrong.max_by(|&a, &b| {
+                    (run.d[a] * run.d[a] / weight[a]).total_cmp(&(run.d[b] * run.d[b] / weight[b]))
+                })
             };
             let q = match pick(self) {
                 Some(q) => q,
@@ -750,14 +647,23 @@ impl<'a> Run<'a> {
                 self.x[q] = if sigma > 0.0 { lp.hi[q] } else { lp.lo[q] };
                 continue;
             }
-            let Some(&(p, room, rate, _, leave_at)) = rooms
+            let ties = rooms
                 .iter()
-                .filter(|&&(_, room, a, _, _)| room / a <= bound)
-                .max_by(|x, y| x.2.total_cmp(&y.2))
-            else {
+                .filter(|&&(_, room, a, _, _)| room / a <= bound);
+            let chosen = if bland {
+                ties.min_by_key(|x| self.basis.head[x.0])
+            } else {
+                ties.max_by(|x, y| x.2.total_cmp(&y.2))
+            };
+            let Some(&(p, room, rate, _, leave_at)) = chosen else {
                 return Err("the program is unbounded".into());
             };
             let t = room / rate;
+            if t * rate <= TOL * (1.0 + self.x[self.basis.head[p]].abs()) {
+                stalled += 1;
+            } else {
+                stalled = 0;
+            }
             step_basic(self, t);
             self.x[q] += sigma * t;
             // The pivot row, for the reduced costs and the weights.
