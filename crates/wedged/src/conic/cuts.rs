@@ -191,7 +191,9 @@ pub(crate) fn tighten(
         .filter(|&j| !decided(out[j]))
         .collect();
     // Each free node's two programs: the node and its new bounds, each `None` when the solver
-    // was unsure; `None` for the whole when neither program is feasible.
+    // was unsure; `None` for the whole when neither program is feasible. (Starting each
+    // program from the basis the previous one left, the least drives of a run of neighbours
+    // first, took as many pivots as starting each from the node's basis.)
     type NewBounds = (usize, Option<f64>, Option<f64>);
     let found: Option<Vec<NewBounds>> = free
         .par_iter()

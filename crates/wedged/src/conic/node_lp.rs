@@ -438,10 +438,9 @@ pub(crate) fn decide(
 
 /// The relaxation of a search node (the classes [`cuts::tighten`] hands it, at `shape`, `sum
 /// r_n = 1`) as the closure that [`cuts::tighten`] minimises over, each program started from
-/// `start`, or from `previous`'s
-/// basis for the same program (its key, [`cuts::tighten`]) when there is one; with `found`,
-/// each program's final basis is kept there (shelved, with the row activities of its optimum)
-/// under its key.
+/// `start`, or from `previous`'s basis for the same program (its key, [`cuts::tighten`]) when
+/// there is one; with `found`, each program's final basis is kept there (shelved, with the row
+/// activities of its optimum) under its key.
 pub(crate) fn relaxation<'a>(
     form: &'a Formulation,
     counters: &'a LpCounters,

@@ -79,8 +79,8 @@ const TINY: f64 = 1e-12;
 /// Values and reduced costs, updated at each pivot, are recomputed from the inverse after
 /// this many pivots (and before every verdict).
 const REFRESH: u64 = 32;
-/// Degenerate primal steps in a row after which the primal method pivots by Bland's rule
-/// ([`Run::solve`]).
+/// Steps of length zero in a row after which the dual method perturbs its costs and the
+/// primal method pivots by Bland's rule ([`Run::solve`]).
 const STALL: u64 = 64;
 /// How often a basis whose optimal point fails its check is refactored ([`attempt`]).
 const REFINE: usize = 2;
