@@ -62,6 +62,14 @@ pub(crate) struct Warm {
 }
 
 impl Warm {
+    /// The same start with every row that is not idle active ([`simplex::Basis::all_rows`]).
+    pub(crate) fn all_rows(self) -> Warm {
+        Warm {
+            basis: self.basis.all_rows(),
+            ..self
+        }
+    }
+
     /// The same start without the basis's dense inverse (`(3m)^2` numbers, refactored when
     /// next used): for a search node kept until later (a unit of a sharded search).
     pub(crate) fn shelved(&self) -> Warm {
@@ -451,10 +459,7 @@ pub(crate) fn relaxation<'a>(
 ) -> impl Fn(usize, &[Class], &[f64]) -> Decision + Sync + 'a {
     // A tightening program's optimum lies far from the start's point: leaving out the rows
     // loose there costs more pivots than it saves (see the simplex method's `active`).
-    let start = start.map(|w| Warm {
-        basis: w.basis.all_rows(),
-        ..w
-    });
+    let start = start.map(Warm::all_rows);
     move |key: usize, fixed: &[Class], objective: &[f64]| {
         let own = previous.and_then(|p| p.get(key)).and_then(|w| w.as_ref());
         let (decision, basis) = decide(
@@ -586,13 +591,7 @@ pub(crate) fn tighten_node(
             .enumerate()
             .map(|(key, f)| {
                 let own = f.lock().expect("no panics while held").take();
-                let own = own.map(|w| match loose {
-                    true => w,
-                    false => Warm {
-                        basis: w.basis.all_rows(),
-                        ..w
-                    },
-                });
+                let own = own.map(|w| if loose { w } else { w.all_rows() });
                 own.or_else(|| kept.as_deref().or(previous)?.get(key)?.clone())
             })
             .collect();

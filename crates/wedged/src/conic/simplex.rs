@@ -412,14 +412,12 @@ impl<'a> Run<'a> {
             let perturb = lp.cost.iter().all(|&c| c == 0.0);
             if perturb {
                 shifted |= self.perturb_costs();
-            }
-            for j in 0..lp.total() {
-                if perturb {
-                    continue;
-                }
-                if self.dual_wrong(j) {
-                    self.cost[j] -= self.d[j];
-                    shifted = true;
+            } else {
+                for j in 0..lp.total() {
+                    if self.dual_wrong(j) {
+                        self.cost[j] -= self.d[j];
+                        shifted = true;
+                    }
                 }
             }
             if shifted {
@@ -442,6 +440,8 @@ impl<'a> Run<'a> {
                 if stalled >= STALL && !perturbed {
                     perturbed = true;
                     shifted |= self.perturb_costs();
+                    // Values and reduced costs fresh again (`since = 0` promises both).
+                    self.primal();
                     self.dual();
                     since = 0;
                     stalled = 0;
@@ -659,7 +659,7 @@ impl<'a> Run<'a> {
                 return Err("the program is unbounded".into());
             };
             let t = room / rate;
-            if t * rate <= TOL * (1.0 + self.x[self.basis.head[p]].abs()) {
+            if room <= TOL * (1.0 + self.x[self.basis.head[p]].abs()) {
                 stalled += 1;
             } else {
                 stalled = 0;

@@ -93,6 +93,7 @@ pub(super) fn invert(lp: &Lp, head: &[usize]) -> Option<Vec<f64>> {
         let pivot = m[p * s + c];
         if pivot.abs() <= 1e-12 * scale {
             pool::recycle(m);
+            pool::recycle(cov);
             return None;
         }
         swaps[c] = p;
