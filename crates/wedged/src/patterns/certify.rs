@@ -379,6 +379,42 @@ mod tests {
         );
     }
 
+    /// A piece at the method's resolution: on the 2D plug at m = 100 (`mu = 2`, 45 contact
+    /// nodes) each entry of this pattern reaches [`POSITIVE`] on its own, but together only
+    /// about 6.8e-8 (the mean of solutions that each lift one entry lifts all of them by less).
+    /// Asking `POSITIVE` of them together left the leaf undecided and the run incomplete; the
+    /// resolution together is half of it, what the witness check asks. The leaf is found
+    /// maximal, witnessed, and its witness passes the exact check.
+    #[test]
+    fn a_piece_at_the_resolution_is_witnessed_exactly() {
+        use crate::conic::contact_lp::ContactLp;
+        use crate::conic::program::POSITIVE;
+        use crate::run::{Control, Limits};
+        let model = crate::examples::plug2d_tri(50).unwrap();
+        let p = model.problem(2.0).unwrap().equilibrated().0;
+        let form = Formulation::new(&p);
+        let lp = ContactLp::new(&form);
+        let cancel = std::sync::atomic::AtomicBool::new(false);
+        let control = Control::new(Limits::default(), &cancel);
+        let mut contact = vec![false; 100];
+        let nodes = [1, 44, 46, 48, 50, 52, 54, 56, 58, 60, 62, 64, 91, 93];
+        for i in nodes.into_iter().chain(65..90).chain(94..100) {
+            contact[i] = true;
+        }
+        let (q, maximal, known) = super::super::search::leaf_piece(&lp, &control, &contact)
+            .unwrap()
+            .unwrap();
+        assert!(maximal);
+        assert_eq!(q, super::super::whole_pattern(&contact));
+        let pat = super::super::finish(&form, Some(&lp), &q, known.as_ref()).unwrap();
+        assert!(
+            pat.margin < POSITIVE && pat.margin > POSITIVE / 2.0,
+            "{}",
+            pat.margin
+        );
+        assert_eq!(check_witness(&p, &integer_stiffness(&p), &pat), Ok(()));
+    }
+
     #[test]
     fn simplest_rationals() {
         assert_eq!(simplest(-0.1, 0.1), (0, 1));

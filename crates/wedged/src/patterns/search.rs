@@ -52,7 +52,11 @@ fn presses(s: &LeafSupport, i: usize) -> bool {
 /// [`finish`]: super::finish
 type Piece = Option<(Vec<ContactPattern>, bool, Option<Support>)>;
 
-fn leaf_piece(lp: &ContactLp, control: &Control, contact: &[bool]) -> Result<Piece, String> {
+pub(super) fn leaf_piece(
+    lp: &ContactLp,
+    control: &Control,
+    contact: &[bool],
+) -> Result<Piece, String> {
     let m = contact.len();
     let classes = leaf_classes(contact);
     // First the witness's own program for the leaf's whole pattern (contact on the leaf's
