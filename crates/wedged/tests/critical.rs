@@ -604,11 +604,11 @@ fn assert_brackets_agree(c: &Critical, other: &Critical, whose: &str, what: &str
 /// The default `bnb` (not certified: it prunes with the drive cuts of `critical/cuts.rs`)
 /// against the certified runs of every random case, which prune without them: the same status,
 /// the same `mu*`, brackets that overlap, and a witness checked here. Each case runs twice:
-/// as in use, and with the root's bounds settled (`Fault::SettleRoot`; in use only from 60
+/// as in use, and with the root's bounds settled (`Fault::SettleRoot`; in use only from 24
 /// nodes on, so the random cases would not see it otherwise).
 #[test]
 fn bnb_with_drive_cuts_agrees_with_certified_runs() {
-    let (mut tightenings, mut settled) = (0, 0);
+    let (mut tightenings, mut settled, mut settled_3d) = (0, 0, 0);
     for case in cases() {
         for fault in [None, Some(wedged::Fault::SettleRoot)] {
             let what = format!("{}, bnb with cuts, {fault:?}", case.name());
@@ -620,6 +620,9 @@ fn bnb_with_drive_cuts_agrees_with_certified_runs() {
             tightenings += c.info.bound_tightenings;
             if fault.is_some() && case.dim == 2 {
                 settled += c.info.bound_tightenings.min(1);
+            }
+            if fault.is_some() && case.dim == 3 {
+                settled_3d += c.info.bound_tightenings.min(1);
             }
             let certified = &case.results[0].1;
             assert_eq!(c.status, certified.status, "{what}");
@@ -634,12 +637,14 @@ fn bnb_with_drive_cuts_agrees_with_certified_runs() {
     }
     assert!(tightenings > 100, "{tightenings} bound tightenings");
     assert!(settled > 20, "{settled} 2D runs with a settled root");
+    assert!(settled_3d > 5, "{settled_3d} 3D runs with a settled root");
 }
 
 /// The 3D `bnb` without `--certify` decides its inner nodes on an outer polyhedral relaxation of
 /// the friction cone (the warm-started simplex method, with drive cuts) and its leaves by the
 /// cone program: on 100 more seeded random 3D problems (m = 2 to 6) it gives the `mu*` of the
-/// brute force over contact sets (`Faces`, certified exactly), with a witness checked here.
+/// brute force over contact sets (`Faces`, certified exactly), with a witness checked here; and
+/// so does it with the root's bounds settled (`Fault::SettleRoot`, in use from 24 nodes on).
 #[test]
 fn bnb_on_the_polyhedral_relaxation_agrees_with_the_brute_force_in_3d() {
     let (mut wedged, mut programs, mut tightenings) = (0, 0, 0);
@@ -647,18 +652,26 @@ fn bnb_on_the_polyhedral_relaxation_agrees_with_the_brute_force_in_3d() {
         let m = 2 + (case % 5) as usize;
         let problem = random_spd_problem_dim(3, m, MU0, 77_000 + case);
         let what = format!("3D, m = {m}, case {case}, bnb on the relaxation");
-        let fast = critical(&problem, &CriticalSettings::default()).unwrap();
         let brute = solve(&problem, CriticalMethod::Faces, &what);
-        assert_eq!(fast.status, brute.status, "{what}");
-        programs += fast.info.simplex_solves;
-        tightenings += fast.info.bound_tightenings;
-        if fast.status != CriticalStatus::Wedged {
-            continue;
+        for fault in [None, Some(wedged::Fault::SettleRoot)] {
+            let what = format!("{what}, {fault:?}");
+            let settings = CriticalSettings {
+                fault,
+                ..CriticalSettings::default()
+            };
+            let fast = critical(&problem, &settings).unwrap();
+            assert_eq!(fast.status, brute.status, "{what}");
+            programs += fast.info.simplex_solves;
+            tightenings += fast.info.bound_tightenings;
+            if fast.status != CriticalStatus::Wedged {
+                continue;
+            }
+            wedged += 1;
+            check_witness(&problem, &fast, &what);
+            assert_brackets_agree(&fast, &brute, "the brute force's", &what);
         }
-        wedged += 1;
-        check_witness(&problem, &fast, &what);
-        assert_brackets_agree(&fast, &brute, "the brute force's", &what);
     }
+    let wedged = wedged / 2;
     println!("{wedged} of 100 wedged, {programs} linear programs, {tightenings} tightenings");
     assert!(wedged >= 30, "{wedged} wedged");
     assert!(

@@ -18,12 +18,12 @@
 //! replaces it. Subtrees run in parallel (`rayon::join`) and share the incumbent.
 //!
 //! **Drive cuts (not certified).** Nodes down to [`TIGHTEN_DEPTH`] (deeper on larger 3D
-//! problems, [`SETTLED_TIGHTEN_DEPTH`] below a settled root) bound the drive of their undecided
+//! problems, [`SETTLED_TIGHTEN_DEPTH`] below a settled 2D root) bound the drive of their undecided
 //! nodes (again down to [`RETIGHTEN_DEPTH`] when the incumbent has dropped since), and every
 //! program below carries the cuts those bounds give ([`crate::conic::cuts`]): a node that
-//! presses must not be driven open. From [`SETTLE_FROM`] nodes on (2D), the root repeats its
+//! presses must not be driven open. From [`SETTLE_FROM`] nodes on, the root repeats its
 //! tightening with its own cuts until the bounds settle, as the enumeration's search does; the
-//! dive's settled root, rounded, gives the run's first leaf ([`ROUNDED`]). The program then
+//! dive's settled 2D root, rounded, gives the run's first leaf ([`ROUNDED`]). The program then
 //! also minimises the undecided nodes' total gap and pressure, so that its point is a vertex
 //! rather than a central one. On the 2D plug this cuts the tree by 10x to 50x and the time by
 //! 3x to 8x (`BENCHMARKS.md`). In 3D the bounds come from the outer polyhedral relaxation of
@@ -214,7 +214,7 @@ impl Search<'_, '_, '_> {
 
     /// Whether the root settles its bounds ([`SETTLE_FROM`]).
     fn settles(&self) -> bool {
-        self.form().dim == 2 && self.form().m >= self.settle_from
+        self.form().m >= self.settle_from
     }
 
     /// Ends the present pass to start it over ([`RESTART`]) when the incumbent has dropped
@@ -355,15 +355,16 @@ impl shard::Tree for Search<'_, '_, '_> {
                 mu: level,
                 drive: known,
             };
-            // The root of a 2D search settles its bounds (the tightening repeated with its own
-            // cuts, `lp::tighten_node`), and so do its children ([`SETTLE_DEPTH`]); every
-            // node inherits them: on the 2D plug at m =
-            // 80 the tree went from 72k nodes to 7.1k and the run from 13.3 s to 5.4 s, at
-            // m = 100 from 427k nodes to 30k and 84 s to 23 s (`BENCHMARKS.md`). (Measured
-            // before loose rows were left out of the node programs, on 2026-11-26, the tree
-            // at m = 60 and 80 had been the same.) Not in 3D: on the V-groove at m = 20, 1.4
-            // s became 1.6 s. A root settled at the same level before (the dive's, when it
-            // found no leaf) is taken as it is.
+            // The root of a search of [`SETTLE_FROM`] nodes or more settles its bounds (the
+            // tightening repeated with its own cuts, `lp::tighten_node`), and so do its
+            // children ([`SETTLE_DEPTH`]); every node inherits them: on the 2D plug at m = 80
+            // the tree went from 72k nodes to 7.1k and the run from 13.3 s to 5.4 s, at m =
+            // 100 from 427k nodes to 30k and 84 s to 23 s (`BENCHMARKS.md`). (Measured before
+            // loose rows were left out of the node programs, on 2026-11-26, the tree at m = 60
+            // and 80 had been the same.) 3D too since each node's bounds impose its own
+            // complementarity (`cuts::tighten`; the 3D numbers at [`SETTLE_FROM`]). A root
+            // settled at the same level before (the dive's, when it found no leaf) is taken
+            // as it is.
             let root = depth == 0 && classes.iter().all(|&c| c == Class::Free);
             let settle = depth <= SETTLE_DEPTH && self.settles();
             // A root settled before at a higher level (the dive's, whose leaf lowered the

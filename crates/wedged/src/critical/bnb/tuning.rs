@@ -25,13 +25,21 @@ pub(super) const SETTLED_TIGHTEN_DEPTH: usize = 1;
 pub(super) const STALE: f64 = 1e-4;
 pub(super) const RETIGHTEN_DEPTH: usize = 8;
 
-/// The root settles its drive bounds ([`crate::conic::node_lp::tighten_node`]) on 2D problems
-/// of this many nodes or more. With the rounded first leaf ([`ROUNDED`]) at `mu*` a settled
+/// The root settles its drive bounds ([`crate::conic::node_lp::tighten_node`]) on problems of
+/// this many nodes or more. With the rounded first leaf ([`ROUNDED`]) at `mu*` a settled 2D
 /// root often refutes the whole tree at once. (Measured on the 2D plug, `farm-bench --vs`,
 /// paired wall medians of settled against tightened once: m = 10 1.29 (8 against 10 ms), m = 16
 /// 1.02, m = 20 1.14, m = 24 0.96, m = 40 0.49 (0.20 against 0.41 s), m = 50 0.36 against 0.72
 /// s. Before the rounded leaf: m = 20 1.10, m = 40 1.06, m = 60 1.03, m = 70 0.48, m = 80
-/// 0.41.)
+/// 0.41.) In 3D since each node's bounds impose its own complementarity
+/// ([`crate::conic::cuts::tighten`]; before, at m = 20, 1.4 s had become 1.6 s), with the 3D
+/// tightening depth and no rounding: on the V-groove plug (`plug3d.toml`, `nx = 4`, `nz = 4`
+/// but m = 30: `nz = 3`), paired wall medians m = 30 0.97 (`-n 5`), m = 40 0.80 (`-n 5`), m = 48
+/// 0.73 (`-n 2`); one run each, m = 56 26.3 -> 18.8 s, m = 64 256 -> 60 s (70k -> 58k nodes), m
+/// = 80 638 -> 444 s (631k -> 590k nodes); the clamped frustum (`frustum3d.toml`, m = 48) 455
+/// -> 479 s (1.07M -> 1.15M nodes); the same `mu*` in all. (Tightening depths 6 and 20 instead
+/// of `m / 5` = 12 below the settled root at m = 64: 108 and 86 s; the dive's settled root
+/// rounded as in 2D: m = 40 15 s, m = 56 51 s.)
 pub(super) const SETTLE_FROM: usize = 24;
 
 /// Nodes down to this depth settle their bounds where the root does ([`SETTLE_FROM`]); the
