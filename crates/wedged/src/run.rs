@@ -35,8 +35,8 @@ pub enum Fault {
     /// has finished without a wedged configuration at or below that bar: at a reproducible
     /// point where an incomplete run has a lower end to report.
     HaltAfterPass,
-    /// Not a fault: the `bnb` search of `mu*` settles its root's drive bounds on a 2D problem
-    /// of any size (by default from `SETTLE_FROM` nodes on, `critical/bnb/tuning.rs`), so that the
+    /// Not a fault: the `bnb` search of `mu*` settles its root's drive bounds on a problem of
+    /// any size (by default from `SETTLE_FROM` nodes on, `critical/bnb/tuning.rs`), so that the
     /// tests see that path on problems small enough to check by brute force.
     SettleRoot,
 }
