@@ -608,7 +608,7 @@ fn assert_brackets_agree(c: &Critical, other: &Critical, whose: &str, what: &str
 /// nodes on, so the random cases would not see it otherwise).
 #[test]
 fn bnb_with_drive_cuts_agrees_with_certified_runs() {
-    let (mut tightenings, mut settled, mut settled_3d) = (0, 0, 0);
+    let (mut tightenings, mut settled) = (0, 0);
     for case in cases() {
         for fault in [None, Some(wedged::Fault::SettleRoot)] {
             let what = format!("{}, bnb with cuts, {fault:?}", case.name());
@@ -620,9 +620,6 @@ fn bnb_with_drive_cuts_agrees_with_certified_runs() {
             tightenings += c.info.bound_tightenings;
             if fault.is_some() && case.dim == 2 {
                 settled += c.info.bound_tightenings.min(1);
-            }
-            if fault.is_some() && case.dim == 3 {
-                settled_3d += c.info.bound_tightenings.min(1);
             }
             let certified = &case.results[0].1;
             assert_eq!(c.status, certified.status, "{what}");
@@ -637,7 +634,6 @@ fn bnb_with_drive_cuts_agrees_with_certified_runs() {
     }
     assert!(tightenings > 100, "{tightenings} bound tightenings");
     assert!(settled > 20, "{settled} 2D runs with a settled root");
-    assert!(settled_3d > 5, "{settled_3d} 3D runs with a settled root");
 }
 
 /// The 3D `bnb` without `--certify` decides its inner nodes on an outer polyhedral relaxation of
