@@ -82,7 +82,7 @@ pub(super) const PASS_SETTLED: f64 = 0.01;
 /// s), m = 100 0.38 (5.33 against 14.0 s); m = 120 19.3 s (one run; 162 s before).
 pub(super) const ROUNDED: f64 = 1e-2;
 
-/// A pass (2D, where the root settles) starts over when a leaf it found has lowered the level
+/// A pass (where the root settles, 2D or 3D) starts over when a leaf it found has lowered the level
 /// by more than this share below the level its root settled at: the root then settles again
 /// at the new level, which refutes more of the tree than the old bounds. (On the 2D plug at m
 /// = 140, with every new best improved: 121 s and 382k nodes, most of them the proof under the
