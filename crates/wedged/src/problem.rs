@@ -493,10 +493,17 @@ impl Problem {
         let (g, k) = (&self.compliance, &self.k);
         let n = g.nrows();
         let r = &x[..n];
+        // `M x` column by column (the storage order), each entry summed over `j` in order as
+        // a row's dot product would be: the same bits, without striding across the columns
+        // (one ray's check called this five times; 6% of a random m = 9 enumeration).
         let apply = |m: &DMatrix<f64>, x: &[f64]| -> Vec<f64> {
-            (0..n)
-                .map(|i| (0..n).map(|j| m[(i, j)] * x[j]).sum())
-                .collect()
+            let mut out = vec![0.0; n];
+            for (column, &xj) in m.as_slice().chunks_exact(n).zip(x) {
+                for (o, a) in out.iter_mut().zip(column) {
+                    *o += a * xj;
+                }
+            }
+            out
         };
         let mut u = apply(g, r);
         if x.len() > n {

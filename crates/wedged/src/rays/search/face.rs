@@ -39,6 +39,9 @@ pub(super) struct FaceStats {
     pub peak: usize,
     /// The face was described without its support (neither solver settled it).
     pub close: bool,
+    /// The least, over the face's inequalities (its positive edges and opening gaps), of the
+    /// largest share of the total pressure that one of its rays gives it (`0` for no rays).
+    pub least_share: f64,
 }
 
 /// The row of the friction edge `col` (`2i` for `a_i`, `2i + 1` for `b_i`) of a gap row over
@@ -102,6 +105,7 @@ pub(super) fn rays(
     let mut b_rows: Vec<Vec<f64>> = (0..nv)
         .map(|c| basis.row(c).iter().copied().collect())
         .collect();
+    let mut gaps: Vec<Vec<f64>> = Vec::new();
     for i in (0..m).filter(|&i| classes[i] == Class::Separated && positive(Entry2::Gap(i))) {
         let g = on_edges(form.gap_row(i), mu, &cols);
         let row: Vec<f64> = (0..k)
@@ -109,6 +113,7 @@ pub(super) fn rays(
             .collect();
         labels.push(Entry2::Gap(i));
         b_rows.push(row);
+        gaps.push(g);
     }
     for row in &mut b_rows {
         let s = row.iter().fold(0.0f64, |a, x| a.max(x.abs()));
@@ -118,10 +123,22 @@ pub(super) fn rays(
     }
     let (ys, zeros, peak) = double_description(&b_rows, k, tol)?;
     let mut out = Vec::with_capacity(ys.len());
+    // Per inequality, the largest share of a ray's total pressure it reaches.
+    let mut share = vec![0.0f64; nv + gaps.len()];
     for (y, z) in ys.iter().zip(&zeros) {
         let x: Vec<f64> = (0..nv)
             .map(|c| (0..k).map(|j| basis[(c, j)] * y[j]).sum())
             .collect();
+        let pressure: f64 = x.iter().sum();
+        if pressure > 0.0 {
+            let values = x.iter().copied().chain(
+                gaps.iter()
+                    .map(|g| g.iter().zip(&x).map(|(a, b)| a * b).sum::<f64>()),
+            );
+            for (s, v) in share.iter_mut().zip(values) {
+                *s = s.max(v / pressure);
+            }
+        }
         let mut r = vec![0.0; 2 * m];
         let mut edge_zero = vec![true; 2 * m];
         for (c, &col) in cols.iter().enumerate() {
@@ -170,6 +187,7 @@ pub(super) fn rays(
             dim: k,
             peak,
             close: false,
+            least_share: share.iter().copied().fold(f64::INFINITY, f64::min),
         },
     ))
 }
