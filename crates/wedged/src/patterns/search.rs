@@ -166,7 +166,7 @@ pub(super) fn run(
     } else {
         &on_leaf
     };
-    let tree = search(&lp, control, shard, progress, Some(on_leaf));
+    let tree = search(&lp, control, shard, progress, on_leaf);
     info.nodes_visited = tree.nodes;
     info.nodes_inherited = tree.inherited;
     info.pruned_infeasible = tree.pruned;

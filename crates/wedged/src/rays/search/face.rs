@@ -209,11 +209,20 @@ impl Bits {
     fn and(&self, other: &Bits) -> Bits {
         Bits(self.0.iter().zip(&other.0).map(|(a, b)| a & b).collect())
     }
-    fn count(&self) -> usize {
-        self.0.iter().map(|w| w.count_ones() as usize).sum()
+    /// The size of `self & other`.
+    fn count_and(&self, other: &Bits) -> usize {
+        self.0
+            .iter()
+            .zip(&other.0)
+            .map(|(a, b)| (a & b).count_ones() as usize)
+            .sum()
     }
-    fn contains(&self, other: &Bits) -> bool {
-        self.0.iter().zip(&other.0).all(|(a, b)| a & b == *b)
+    /// Whether `self` contains `a & b`.
+    fn contains_and(&self, a: &Bits, b: &Bits) -> bool {
+        self.0
+            .iter()
+            .zip(a.0.iter().zip(&b.0))
+            .all(|(s, (x, y))| s & x & y == x & y)
     }
 }
 
@@ -296,17 +305,20 @@ fn double_description(
         let mut new: Vec<(Vec<f64>, Bits)> = Vec::new();
         for &p in &plus {
             for &q in &minus {
-                let common = rays[p].1.and(&rays[q].1);
-                if common.count() + 2 < k {
+                // The rows common to both, word by word (no set is built for a pair that is
+                // not adjacent: most are not).
+                let (zp, zq) = (&rays[p].1, &rays[q].1);
+                if zp.count_and(zq) + 2 < k {
                     continue;
                 }
                 let adjacent = !rays
                     .iter()
                     .enumerate()
-                    .any(|(j, (_, z))| j != p && j != q && z.contains(&common));
+                    .any(|(j, (_, z))| j != p && j != q && z.contains_and(zp, zq));
                 if !adjacent {
                     continue;
                 }
+                let common = zp.and(zq);
                 let (vp, vq) = (values[p], values[q]);
                 let y: Vec<f64> = rays[p]
                     .0

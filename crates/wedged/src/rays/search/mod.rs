@@ -22,8 +22,7 @@ mod face;
 pub(crate) mod tree;
 
 use std::collections::HashSet;
-
-use rayon::prelude::*;
+use std::sync::Mutex;
 
 use super::params::{Info, Progress, RawRay, Settings};
 use crate::conic::contact_lp::{ContactLp, LeafSupport};
@@ -96,28 +95,39 @@ pub(crate) fn run(
     let (scaled, scales) = problem.equilibrated();
     let form = Formulation::new(&scaled);
     let lp = ContactLp::new(&form);
-    let tree = tree::search(&lp, control, None, progress, None);
+    // Each leaf's face is described as the leaf is found, on the thread that found it, so that
+    // the faces share the tree's parallel walk instead of waiting for its end. Once the run
+    // must stop (a limit, Ctrl-C), the faces not yet begun are skipped: the run is then
+    // incomplete, with the rays of the faces finished (as `faces` reports them).
+    let tol = settings.zero_tol;
+    type Described = (
+        Vec<bool>,
+        Result<(Vec<face::FaceRay>, face::FaceStats), String>,
+    );
+    let described: Mutex<Vec<Described>> = Mutex::new(Vec::new());
+    let on_leaf = |contact: Vec<bool>| {
+        let face = if control.must_stop(0) {
+            Ok((Vec::new(), face::FaceStats::default()))
+        } else {
+            leaf_face(&lp, &leaf_classes(&contact), tol)
+        };
+        described
+            .lock()
+            .expect("no panics while held")
+            .push((contact, face));
+    };
+    let tree = tree::search(&lp, control, None, progress, &on_leaf);
     info.search_nodes = tree.nodes;
     info.search_inherited = tree.inherited;
     info.search_pruned = tree.pruned;
-    info.search_leaves = tree.leaves.len() as u64;
+    info.search_leaves = tree.found;
     info.search_undecided = tree.undecided;
     info.search_tightenings = tree.tightened;
     let mut undecided = false;
-    // The faces of the leaves, in parallel; once the run must stop (a limit, Ctrl-C), the
-    // faces not yet begun are skipped: the run is then incomplete, with the rays of the faces
-    // finished (as `faces` reports them).
-    let tol = settings.zero_tol;
-    let faces: Vec<Result<(Vec<face::FaceRay>, face::FaceStats), String>> = tree
-        .leaves
-        .par_iter()
-        .map(|contact| {
-            if control.must_stop(0) {
-                return Ok((Vec::new(), face::FaceStats::default()));
-            }
-            leaf_face(&lp, &leaf_classes(contact), tol)
-        })
-        .collect();
+    // In the order of their contact sets, whatever the threads did.
+    let mut described = described.into_inner().expect("no panics while held");
+    described.sort_by(|a, b| a.0.cmp(&b.0));
+    let faces = described.into_iter().map(|(_, face)| face);
     let mut seen: HashSet<Vec<NodeStatus>> = HashSet::new();
     let mut rays = Vec::new();
     for face in faces {
@@ -201,8 +211,10 @@ mod tests {
             let cancel = std::sync::atomic::AtomicBool::new(false);
             let control = Control::new(Limits::default(), &cancel);
             let tol = Settings::default().zero_tol;
-            let tree = tree::search(&lp, &control, None, &|_| {}, None);
-            for contact in &tree.leaves {
+            let leaves = Mutex::new(Vec::new());
+            let keep = |leaf: Vec<bool>| leaves.lock().unwrap().push(leaf);
+            tree::search(&lp, &control, None, &|_| {}, &keep);
+            for contact in &leaves.into_inner().unwrap() {
                 let classes = leaf_classes(contact);
                 let every = LeafSupport::everything(&classes);
                 let first = face::rays(&form, &classes, &every, tol);

@@ -32,7 +32,7 @@
 //! then the one pressed most. The two subtrees run in parallel (`rayon::join`).
 
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use crate::conic::contact_lp::ContactLp;
 use crate::conic::cuts::Drive;
@@ -84,8 +84,6 @@ const SETTLE_PARTS: usize = 3;
 /// What the search found and what it cost.
 #[derive(Debug, Default)]
 pub(crate) struct Tree {
-    /// The contact sets of the leaves (one flag per node), unless they were handed on.
-    pub leaves: Vec<Vec<bool>>,
     /// Leaves found (kept or handed on).
     pub found: u64,
     /// Leaves and search nodes whose program could not be decided (explored as if feasible);
@@ -103,20 +101,20 @@ pub(crate) struct Tree {
     pub shard: Option<ShardReport>,
 }
 
-/// What the search does with a leaf's contact set as it finds it (from a worker thread); the
-/// leaves are then not kept in [`Tree::leaves`].
+/// What the search does with a leaf's contact set as it finds it (from a worker thread: the
+/// enumeration describes the leaf's face there, pattern-search its pattern).
 pub(crate) type OnLeaf<'a> = &'a (dyn Fn(Vec<bool>) + Sync);
 
 /// Searches the contact sets of `lp`'s formulation (both 2D search methods), the whole tree or
 /// `shard`'s part of it ([`crate::shard`]), reporting the explored share (`done` of `total`)
-/// and the leaves found (`rays`) to `progress` from the calling thread. With `on_leaf`, each
-/// leaf goes there as it is found instead of into [`Tree::leaves`].
+/// and the leaves found (`rays`) to `progress` from the calling thread. Each leaf goes to
+/// `on_leaf` as it is found.
 pub(crate) fn search(
     lp: &ContactLp,
     control: &Control,
     shard: Option<Shard>,
     progress: &dyn Fn(Progress),
-    on_leaf: Option<OnLeaf>,
+    on_leaf: OnLeaf,
 ) -> Tree {
     let search = Search::new(lp, control, on_leaf, vec![Class::Free; lp.form().m]);
     let explored = Explored::new();
@@ -154,7 +152,7 @@ pub(crate) fn presses_a_free_node(
             pressed.store(true, Ordering::Relaxed);
         }
     };
-    let search = Search::new(lp, control, Some(&on_leaf), classes.to_vec());
+    let search = Search::new(lp, control, &on_leaf, classes.to_vec());
     let explored = Explored::new();
     Walk::new(&search, &explored).run(None);
     if search.undecided.load(Ordering::Relaxed) > 0 {
@@ -179,9 +177,8 @@ struct Search<'a, 'f> {
     lp: &'a ContactLp<'f>,
     control: &'a Control<'a>,
     m: usize,
-    leaves: Mutex<Vec<Vec<bool>>>,
-    /// Where leaves go instead of `leaves`.
-    on_leaf: Option<OnLeaf<'a>>,
+    /// Where the leaves go, as they are found.
+    on_leaf: OnLeaf<'a>,
     /// Leaves found (kept or handed on).
     found: AtomicU64,
     undecided: AtomicU64,
@@ -199,7 +196,7 @@ impl<'a, 'f> Search<'a, 'f> {
     fn new(
         lp: &'a ContactLp<'f>,
         control: &'a Control<'a>,
-        on_leaf: Option<OnLeaf<'a>>,
+        on_leaf: OnLeaf<'a>,
         root: Vec<Class>,
     ) -> Search<'a, 'f> {
         let m = lp.form().m;
@@ -207,7 +204,6 @@ impl<'a, 'f> Search<'a, 'f> {
             lp,
             control,
             m,
-            leaves: Mutex::new(Vec::new()),
             on_leaf,
             found: AtomicU64::new(0),
             undecided: AtomicU64::new(0),
@@ -234,7 +230,6 @@ impl<'a, 'f> Search<'a, 'f> {
 
     fn finish(self) -> Tree {
         Tree {
-            leaves: self.leaves.into_inner().unwrap_or_default(),
             found: self.found.into_inner(),
             undecided: self.undecided.into_inner(),
             nodes: self.nodes.into_inner(),
@@ -409,10 +404,7 @@ impl shard::Tree for Search<'_, '_> {
             let leaf: Vec<bool> = classes.iter().map(|&c| c == Class::Contact).collect();
             if !rehearsal {
                 self.found.fetch_add(1, Ordering::Relaxed);
-                match self.on_leaf {
-                    Some(on_leaf) => on_leaf(leaf),
-                    None => self.leaves.lock().expect("no panics while held").push(leaf),
-                }
+                (self.on_leaf)(leaf);
             }
             return None;
         }
