@@ -496,16 +496,16 @@ impl Problem {
         // `M x` column by column (the storage order), each entry summed over `j` in order as
         // a row's dot product would be: the same bits, without striding across the columns
         // (one ray's check called this five times; 6% of a random m = 9 enumeration).
-        let apply = |m: &DMatrix<f64>, x: &[f64]| -> Vec<f64> {
-            let mut out = vec![0.0; n];
+        let apply = |m: &DMatrix<f64>, x: &[f64], out: &mut [f64]| {
+            out.iter_mut().for_each(|o| *o = 0.0);
             for (column, &xj) in m.as_slice().chunks_exact(n).zip(x) {
                 for (o, a) in out.iter_mut().zip(column) {
                     *o += a * xj;
                 }
             }
-            out
         };
-        let mut u = apply(g, r);
+        let mut u = vec![0.0; n];
+        apply(g, r, &mut u);
         if x.len() > n {
             let a = &x[n..];
             for (i, ui) in u.iter_mut().enumerate() {
@@ -516,10 +516,14 @@ impl Problem {
                     .sum::<f64>();
             }
         }
+        let (mut residual, mut du) = (vec![0.0; n], vec![0.0; n]);
         for _ in 0..2 {
-            let ku = apply(k, &u);
-            let residual: Vec<f64> = r.iter().zip(&ku).map(|(a, b)| a - b).collect();
-            let du = apply(g, &residual);
+            apply(k, &u, &mut residual);
+            residual
+                .iter_mut()
+                .zip(r)
+                .for_each(|(ku, ri)| *ku = ri - *ku);
+            apply(g, &residual, &mut du);
             u.iter_mut().zip(&du).for_each(|(x, d)| *x += d);
         }
         u
