@@ -8,9 +8,10 @@
 //!    solution. Its size is reported (`info.search_nodes`, `info.search_leaves`).
 //! 3. [`face`]: for each leaf, the support program tells which friction edges and gaps can be
 //!    positive; the face lives in the null space of the rest, where a plain double description
-//!    finds its extreme rays. (A face whose every edge and gap some ray found without the
-//!    program makes clearly positive needs no program: [`leaf_face`].) Every complementary extreme ray of `C` is an extreme ray of the face
-//!    of the contact set it presses, so the union over the leaves is all of them.
+//!    finds its extreme rays (a face whose every edge and gap is clearly positive on some ray
+//!    found without the program needs no program: [`leaf_face`]). Every complementary extreme
+//!    ray of `C` is an extreme ray of the face of the contact set it presses, so the union over
+//!    the leaves is all of them.
 //!
 //! The rays go to the common finishing step (recomputed from their status, verified, cliques).
 //! A program that neither the simplex method nor Clarabel decides does not prune. A leaf whose
@@ -54,18 +55,10 @@ const SURE_SHARE: f64 = 1e-6;
 /// neither solver settles (an ill-conditioned face) is taken as everything, and the double
 /// description, which needs no full-dimensional cone, decides the zeros by its tolerance (as
 /// pruned-dd does everywhere); counted as a close call.
-fn leaf_face(
-    lp: &ContactLp,
-    classes: &[Class],
-    tol: f64,
-) -> Result<(Vec<face::FaceRay>, face::FaceStats), String> {
+fn leaf_face(lp: &ContactLp, classes: &[Class], tol: f64) -> Described {
     let form = lp.form();
-    let every = LeafSupport::everything(classes);
-    let first = face::rays(form, classes, &every, tol);
-    if first
-        .as_ref()
-        .is_ok_and(|(_, stats)| stats.least_share >= SURE_SHARE)
-    {
+    let (first, kept) = without_support(form, classes, tol);
+    if kept {
         return first;
     }
     match lp.support(classes) {
@@ -81,6 +74,19 @@ fn leaf_face(
             )
         }),
     }
+}
+
+/// A face's rays and what describing it cost, or why it could not be described.
+type Described = Result<(Vec<face::FaceRay>, face::FaceStats), String>;
+
+/// [`leaf_face`]'s first step: the face described with every edge and gap taken as possibly
+/// positive, and whether it is kept (each of them reaches [`SURE_SHARE`] on some ray).
+fn without_support(form: &Formulation, classes: &[Class], tol: f64) -> (Described, bool) {
+    let first = face::rays(form, classes, &LeafSupport::everything(classes), tol);
+    let kept = first
+        .as_ref()
+        .is_ok_and(|(_, stats)| stats.least_share >= SURE_SHARE);
+    (first, kept)
 }
 
 /// Runs the method; returns the rays found and, when some decision could not be made, that
@@ -100,11 +106,7 @@ pub(crate) fn run(
     // must stop (a limit, Ctrl-C), the faces not yet begun are skipped: the run is then
     // incomplete, with the rays of the faces finished (as `faces` reports them).
     let tol = settings.zero_tol;
-    type Described = (
-        Vec<bool>,
-        Result<(Vec<face::FaceRay>, face::FaceStats), String>,
-    );
-    let described: Mutex<Vec<Described>> = Mutex::new(Vec::new());
+    let described: Mutex<Vec<(Vec<bool>, Described)>> = Mutex::new(Vec::new());
     let on_leaf = |contact: Vec<bool>| {
         let face = if control.must_stop(0) {
             Ok((Vec::new(), face::FaceStats::default()))
@@ -216,12 +218,8 @@ mod tests {
             tree::search(&lp, &control, None, &|_| {}, &keep);
             for contact in &leaves.into_inner().unwrap() {
                 let classes = leaf_classes(contact);
-                let every = LeafSupport::everything(&classes);
-                let first = face::rays(&form, &classes, &every, tol);
-                let passes = first
-                    .as_ref()
-                    .is_ok_and(|(_, s)| s.least_share >= SURE_SHARE);
-                if !passes {
+                let (first, kept_here) = without_support(&form, &classes, tol);
+                if !kept_here {
                     needed += 1;
                     continue;
                 }
@@ -230,6 +228,7 @@ mod tests {
                 let set = |s: &LeafSupport| -> BTreeSet<String> {
                     s.positive.iter().map(|e| format!("{e:?}")).collect()
                 };
+                let every = LeafSupport::everything(&classes);
                 assert_eq!(set(&support), set(&every), "leaf {contact:?}");
                 let (a, _) = first.unwrap();
                 let (b, _) = face::rays(&form, &classes, &support, tol).unwrap();
