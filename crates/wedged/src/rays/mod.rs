@@ -130,8 +130,9 @@ pub fn enumerate_with_control(
     } else {
         problem.equilibrated()
     };
-    // Each ray on its own, in parallel (one SVD each: on a random m = 9 problem with 439 rays
-    // about 40% of the run's time), in order, so that a failure reported is the first one.
+    // Each ray on its own, in parallel (a QR factorisation each, a singular value decomposition
+    // where its bounds do not decide: `verify::quick`), in order, so that a failure reported
+    // is the first one.
     // A run that must stop while they are checked (a limit, Ctrl-C) reports the rays checked
     // so far, incomplete. (A method that stopped before hands back the rays it finished, as
     // `faces` does: they are its answer, and all of them are checked.)
