@@ -154,8 +154,9 @@ pub fn polish_and_verify(
     polish_and_check(problem, r, status, tol, true)
 }
 
-/// [`polish_and_verify`], with `quick` the tests of rank and agreement decided from bounds where
-/// they are clear ([`quick`]), without it always by the singular value decomposition.
+/// [`polish_and_verify`]; with `quick_ok` the tests of rank and agreement are decided from
+/// bounds where they are clear ([`quick`]), without it always by the singular value
+/// decomposition.
 fn polish_and_check(
     problem: &Problem,
     r: &[f64],
@@ -404,10 +405,10 @@ mod tests {
     }
 
     /// The quick check ([`quick`]) and the singular value decomposition give the same verdict on
-    /// every ray, and the same ray to round-off of its conditioning: the rays of 90 random
-    /// problems (m = 3 to 9, 2 to 8 of them banded so that some nodes decouple), the demo and
-    /// the plug at m = 12 and 16, each also with one node's status changed (a wrong status,
-    /// which both must refuse alike). The quick path finishes most of the checks (the test
+    /// every ray, and the same ray to round-off of its conditioning: the rays of 60 random
+    /// problems (m = 3 to 9), 30 banded ones (m = 4 to 9, band 1 or 2), the demo and the plug
+    /// at m = 12 and 16, each also with one node's status changed (a wrong status, which both
+    /// must refuse alike). The quick path finishes most of the checks (the test
     /// would pass vacuously if it declined them all).
     #[test]
     fn the_quick_check_agrees_with_the_decomposition() {
