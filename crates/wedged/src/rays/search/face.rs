@@ -100,35 +100,41 @@ pub(super) fn rays(
             "the face has dimension 0 although {nv} friction edges are positive in it"
         ));
     }
-    // Inequalities `B N y >= 0`: the edges (identity rows), then the gaps that open.
+    // Inequalities `B N y >= 0`: the edges (identity rows), then the gaps that open; row
+    // after row, `k` values each.
     let mut labels: Vec<Entry2> = cols.iter().map(|&c| Entry2::Edge(c)).collect();
-    let mut b_rows: Vec<Vec<f64>> = (0..nv)
-        .map(|c| basis.row(c).iter().copied().collect())
-        .collect();
+    let mut b_rows: Vec<f64> = Vec::with_capacity((nv + m) * k);
+    for c in 0..nv {
+        b_rows.extend(basis.row(c).iter());
+    }
     let mut gaps: Vec<Vec<f64>> = Vec::new();
     for i in (0..m).filter(|&i| classes[i] == Class::Separated && positive(Entry2::Gap(i))) {
         let g = on_edges(form.gap_row(i), mu, &cols);
-        let row: Vec<f64> = (0..k)
-            .map(|j| (0..nv).map(|c| g[c] * basis[(c, j)]).sum())
-            .collect();
+        b_rows.extend((0..k).map(|j| (0..nv).map(|c| g[c] * basis[(c, j)]).sum::<f64>()));
         labels.push(Entry2::Gap(i));
-        b_rows.push(row);
         gaps.push(g);
     }
-    for row in &mut b_rows {
+    for row in b_rows.chunks_exact_mut(k) {
         let s = row.iter().fold(0.0f64, |a, x| a.max(x.abs()));
         if s > 0.0 {
             row.iter_mut().for_each(|x| *x /= s);
         }
     }
-    let (ys, zeros, peak) = double_description(&b_rows, k, tol)?;
-    let mut out = Vec::with_capacity(ys.len());
+    // The row of each separated node's gap among the inequalities, if it opens.
+    let gap_row: Vec<Option<usize>> = (0..m)
+        .map(|i| labels.iter().position(|&l| l == Entry2::Gap(i)))
+        .collect();
+    let (held, peak) = double_description(&b_rows, k, tol)?;
+    let mut out = Vec::with_capacity(held.len());
     // Per inequality, the largest share of a ray's total pressure it reaches.
     let mut share = vec![0.0f64; nv + gaps.len()];
-    for (y, z) in ys.iter().zip(&zeros) {
-        let x: Vec<f64> = (0..nv)
-            .map(|c| (0..k).map(|j| basis[(c, j)] * y[j]).sum())
-            .collect();
+    let mut x = vec![0.0; nv];
+    let mut edge_zero = vec![true; 2 * m];
+    for ray in 0..held.len() {
+        let y = held.y(ray);
+        for (c, xc) in x.iter_mut().enumerate() {
+            *xc = (0..k).map(|j| basis[(c, j)] * y[j]).sum();
+        }
         let pressure: f64 = x.iter().sum();
         if pressure > 0.0 {
             let values = x.iter().copied().chain(
@@ -140,7 +146,7 @@ pub(super) fn rays(
             }
         }
         let mut r = vec![0.0; 2 * m];
-        let mut edge_zero = vec![true; 2 * m];
+        edge_zero.iter_mut().for_each(|z| *z = true);
         for (c, &col) in cols.iter().enumerate() {
             let v = x[c].max(0.0);
             let i = col / 2;
@@ -151,7 +157,7 @@ pub(super) fn rays(
                 r[2 * i] += v;
                 r[2 * i + 1] -= mu * v;
             }
-            edge_zero[col] = z[c];
+            edge_zero[col] = held.zero(ray, c);
         }
         let total: f64 = r.iter().step_by(2).sum();
         if total <= 0.0 {
@@ -167,11 +173,7 @@ pub(super) fn rays(
                     (false, false) => NodeStatus::Stick,
                 },
                 _ => {
-                    let open = labels
-                        .iter()
-                        .position(|&l| l == Entry2::Gap(i))
-                        .is_some_and(|row| !z[row]);
-                    if open {
+                    if gap_row[i].is_some_and(|row| !held.zero(ray, row)) {
                         NodeStatus::Separated
                     } else {
                         NodeStatus::Grazing
@@ -192,70 +194,99 @@ pub(super) fn rays(
     ))
 }
 
-/// A bit set over the rows.
-#[derive(Clone, PartialEq, Eq)]
-struct Bits(Vec<u64>);
+/// The rays a double description holds: each one's direction (`k` values) and zero set (a
+/// bit per row, `words` words), in two flat arrays, so that a round allocates nothing per ray
+/// (one `Vec` per direction and per zero set had been a fifth of a random m = 9 enumeration's
+/// allocations).
+struct Held {
+    k: usize,
+    words: usize,
+    ys: Vec<f64>,
+    zs: Vec<u64>,
+}
 
-impl Bits {
-    fn new(n: usize) -> Bits {
-        Bits(vec![0; n.div_ceil(64)])
+impl Held {
+    fn new(k: usize, rows: usize) -> Held {
+        Held {
+            k,
+            words: rows.div_ceil(64),
+            ys: Vec::new(),
+            zs: Vec::new(),
+        }
     }
-    fn set(&mut self, i: usize) {
-        self.0[i / 64] |= 1 << (i % 64);
+    fn len(&self) -> usize {
+        self.ys.len() / self.k
     }
-    fn get(&self, i: usize) -> bool {
-        self.0[i / 64] >> (i % 64) & 1 == 1
+    fn y(&self, j: usize) -> &[f64] {
+        &self.ys[j * self.k..(j + 1) * self.k]
     }
-    fn and(&self, other: &Bits) -> Bits {
-        Bits(self.0.iter().zip(&other.0).map(|(a, b)| a & b).collect())
+    fn z(&self, j: usize) -> &[u64] {
+        &self.zs[j * self.words..(j + 1) * self.words]
     }
-    /// The size of `self & other`.
-    fn count_and(&self, other: &Bits) -> usize {
-        self.0
-            .iter()
-            .zip(&other.0)
-            .map(|(a, b)| (a & b).count_ones() as usize)
-            .sum()
+    /// Whether ray `j` is tight on row `i`.
+    fn zero(&self, j: usize, i: usize) -> bool {
+        self.z(j)[i / 64] >> (i % 64) & 1 == 1
     }
-    /// Whether `self` contains `a & b`.
-    fn contains_and(&self, a: &Bits, b: &Bits) -> bool {
-        self.0
-            .iter()
-            .zip(a.0.iter().zip(&b.0))
-            .all(|(s, (x, y))| s & x & y == x & y)
+    /// A new ray: `y` scaled to unit max-norm, zero on the rows of `z` and on row `also`.
+    fn push(&mut self, y: impl Iterator<Item = f64>, z: impl Iterator<Item = u64>, also: usize) {
+        let from = self.ys.len();
+        self.ys.extend(y);
+        let y = &mut self.ys[from..];
+        let s = y.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        if s > 0.0 {
+            y.iter_mut().for_each(|x| *x /= s);
+        }
+        let from = self.zs.len();
+        self.zs.extend(z);
+        self.zs[from + also / 64] |= 1 << (also % 64);
+    }
+    fn clear(&mut self) {
+        self.ys.clear();
+        self.zs.clear();
     }
 }
 
-/// The extreme rays of the pointed, full-dimensional cone `{ y in R^k : rows y >= 0 }` (rows
-/// scaled to unit max-norm), each with its zero set (one flag per row), and the most rays held
-/// at once.
-#[allow(clippy::type_complexity)]
-fn double_description(
-    rows: &[Vec<f64>],
-    k: usize,
-    tol: f64,
-) -> Result<(Vec<Vec<f64>>, Vec<Vec<bool>>, usize), String> {
-    let n = rows.len();
+/// The size of `a & b`.
+fn count_and(a: &[u64], b: &[u64]) -> usize {
+    a.iter()
+        .zip(b)
+        .map(|(a, b)| (a & b).count_ones() as usize)
+        .sum()
+}
+
+/// Whether `s` contains `a & b`.
+fn contains_and(s: &[u64], a: &[u64], b: &[u64]) -> bool {
+    s.iter()
+        .zip(a.iter().zip(b))
+        .all(|(s, (x, y))| s & x & y == x & y)
+}
+
+/// The extreme rays of the pointed, full-dimensional cone `{ y in R^k : rows y >= 0 }` (`rows`
+/// row after row, `k` values each, scaled to unit max-norm), each scaled to unit max-norm and
+/// with its zero set (a bit per row), and the most rays held at once.
+fn double_description(rows: &[f64], k: usize, tol: f64) -> Result<(Held, usize), String> {
+    let n = rows.len() / k;
+    let row = |i: usize| &rows[i * k..(i + 1) * k];
     // k independent rows, greedily (modified Gram-Schmidt on unit rows).
     let mut chosen: Vec<usize> = Vec::with_capacity(k);
-    let mut ortho: Vec<Vec<f64>> = Vec::with_capacity(k);
-    for (i, row) in rows.iter().enumerate() {
+    let mut ortho: Vec<f64> = Vec::with_capacity(k * k);
+    let mut v = vec![0.0; k];
+    for i in 0..n {
         if chosen.len() == k {
             break;
         }
-        let norm = row.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let norm = row(i).iter().map(|x| x * x).sum::<f64>().sqrt();
         if norm == 0.0 {
             continue;
         }
-        let mut v: Vec<f64> = row.iter().map(|x| x / norm).collect();
-        for q in &ortho {
+        v.iter_mut().zip(row(i)).for_each(|(a, x)| *a = x / norm);
+        for q in ortho.chunks_exact(k) {
             let d: f64 = v.iter().zip(q).map(|(a, b)| a * b).sum();
             v.iter_mut().zip(q).for_each(|(a, b)| *a -= d * b);
         }
         let rest = v.iter().map(|x| x * x).sum::<f64>().sqrt();
         if rest > 1e-7 {
-            v.iter_mut().for_each(|x| *x /= rest);
-            ortho.push(v);
+            ortho.extend(v.iter().map(|x| x / rest));
             chosen.push(i);
         }
     }
@@ -265,100 +296,84 @@ fn double_description(
             chosen.len()
         ));
     }
-    let b0 = DMatrix::from_fn(k, k, |a, c| rows[chosen[a]][c]);
+    let b0 = DMatrix::from_fn(k, k, |a, c| row(chosen[a])[c]);
     let inv = b0
         .try_inverse()
         .ok_or("the face's starting rows are singular")?;
     let mut done = vec![false; n];
     chosen.iter().for_each(|&i| done[i] = true);
-    let mut rays: Vec<(Vec<f64>, Bits)> = (0..k)
-        .map(|j| {
-            let y: Vec<f64> = (0..k).map(|a| inv[(a, j)]).collect();
-            let mut z = Bits::new(n);
-            for (a, &i) in chosen.iter().enumerate() {
-                if a != j {
-                    z.set(i);
-                }
-            }
-            (normalised(y), z)
-        })
-        .collect();
+    let mut rays = Held::new(k, n);
+    let mut zero = vec![0u64; rays.words];
+    chosen.iter().for_each(|&i| zero[i / 64] |= 1 << (i % 64));
+    for (j, &i) in chosen.iter().enumerate() {
+        // Tight on every starting row but its own.
+        let y = (0..k).map(|a| inv[(a, j)]);
+        rays.push(y, zero.iter().copied(), i);
+        let from = j * rays.words;
+        rays.zs[from + i / 64] &= !(1 << (i % 64));
+    }
     let mut peak = rays.len();
-    for (i, row) in rows.iter().enumerate() {
+    let mut next = Held::new(k, n);
+    let (mut values, mut plus, mut minus) = (Vec::new(), Vec::new(), Vec::new());
+    for i in 0..n {
         if done[i] {
             continue;
         }
-        let values: Vec<f64> = rays
-            .iter()
-            .map(|(y, _)| {
-                let v: f64 = row.iter().zip(y).map(|(a, b)| a * b).sum();
-                let s: f64 = row.iter().zip(y).map(|(a, b)| (a * b).abs()).sum();
-                if v.abs() <= tol * s {
-                    0.0
-                } else {
-                    v
+        let r = row(i);
+        values.clear();
+        values.extend((0..rays.len()).map(|j| {
+            let y = rays.y(j);
+            let v: f64 = r.iter().zip(y).map(|(a, b)| a * b).sum();
+            let s: f64 = r.iter().zip(y).map(|(a, b)| (a * b).abs()).sum();
+            if v.abs() <= tol * s {
+                0.0
+            } else {
+                v
+            }
+        }));
+        plus.clear();
+        plus.extend((0..rays.len()).filter(|&j| values[j] > 0.0));
+        minus.clear();
+        minus.extend((0..rays.len()).filter(|&j| values[j] < 0.0));
+        // The rays kept (tight on row `i` where their value is zero), then the new ones.
+        next.clear();
+        for (j, &v) in values.iter().enumerate() {
+            if v >= 0.0 {
+                next.ys.extend_from_slice(rays.y(j));
+                next.zs.extend_from_slice(rays.z(j));
+                if v == 0.0 {
+                    let from = next.zs.len() - next.words;
+                    next.zs[from + i / 64] |= 1 << (i % 64);
                 }
-            })
-            .collect();
-        let plus: Vec<usize> = (0..rays.len()).filter(|&j| values[j] > 0.0).collect();
-        let minus: Vec<usize> = (0..rays.len()).filter(|&j| values[j] < 0.0).collect();
-        let mut new: Vec<(Vec<f64>, Bits)> = Vec::new();
+            }
+        }
+        let kept = next.len();
         for &p in &plus {
             for &q in &minus {
                 // The rows common to both, word by word (no set is built for a pair that is
                 // not adjacent: most are not).
-                let (zp, zq) = (&rays[p].1, &rays[q].1);
-                if zp.count_and(zq) + 2 < k {
+                let (zp, zq) = (rays.z(p), rays.z(q));
+                if count_and(zp, zq) + 2 < k {
                     continue;
                 }
-                let adjacent = !rays
-                    .iter()
-                    .enumerate()
-                    .any(|(j, (_, z))| j != p && j != q && z.contains_and(zp, zq));
+                let adjacent =
+                    !(0..rays.len()).any(|j| j != p && j != q && contains_and(rays.z(j), zp, zq));
                 if !adjacent {
                     continue;
                 }
-                let common = zp.and(zq);
                 let (vp, vq) = (values[p], values[q]);
-                let y: Vec<f64> = rays[p]
-                    .0
+                let y = rays
+                    .y(p)
                     .iter()
-                    .zip(&rays[q].0)
-                    .map(|(a, b)| vp * b - vq * a)
-                    .collect();
-                let mut z = common;
-                z.set(i);
-                new.push((normalised(y), z));
+                    .zip(rays.y(q))
+                    .map(|(a, b)| vp * b - vq * a);
+                next.push(y, zp.iter().zip(zq).map(|(a, b)| a & b), i);
             }
         }
-        let kept: Vec<(Vec<f64>, Bits)> = rays
-            .into_iter()
-            .zip(&values)
-            .filter(|(_, &v)| v >= 0.0)
-            .map(|((y, mut z), &v)| {
-                if v == 0.0 {
-                    z.set(i);
-                }
-                (y, z)
-            })
-            .collect();
-        peak = peak.max(kept.len() + new.len() + minus.len());
-        rays = kept;
-        rays.extend(new);
+        peak = peak.max(next.len() + minus.len());
+        debug_assert!(next.len() >= kept);
+        std::mem::swap(&mut rays, &mut next);
         done[i] = true;
     }
-    let zeros = rays
-        .iter()
-        .map(|(_, z)| (0..n).map(|i| z.get(i)).collect())
-        .collect();
-    Ok((rays.into_iter().map(|(y, _)| y).collect(), zeros, peak))
-}
-
-/// `y` scaled to unit max-norm.
-fn normalised(mut y: Vec<f64>) -> Vec<f64> {
-    let s = y.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-    if s > 0.0 {
-        y.iter_mut().for_each(|x| *x /= s);
-    }
-    y
+    Ok((rays, peak))
 }
