@@ -166,15 +166,22 @@ impl Lp {
 
     /// `v^T [A  -I]`, all `N` entries.
     fn row_times(&self, v: &[f64]) -> Vec<f64> {
+        let mut out = Vec::new();
+        self.row_times_into(v, &mut out);
+        out
+    }
+
+    /// [`Lp::row_times`] into `out` (its storage reused).
+    fn row_times_into(&self, v: &[f64], out: &mut Vec<f64>) {
         let n = self.n;
-        let mut out = vec![0.0; self.total()];
+        out.clear();
+        out.resize(self.total(), 0.0);
         for (k, &vk) in v.iter().enumerate() {
             if vk != 0.0 {
                 axpy(&mut out[..n], vk, self.row(k));
                 out[n + k] = -vk;
             }
         }
-        out
     }
 }
 
@@ -375,6 +382,10 @@ struct Run<'a> {
     x: Vec<f64>,
     /// Reduced costs (basic ones zero).
     d: Vec<f64>,
+    /// Buffers that [`Run::primal`] and [`Run::dual`] reuse from call to call (a run's
+    /// allocations had been most of a small program's cost: about 75 a program on the random
+    /// m = 9 enumeration).
+    pub(super) scratch: [Vec<f64>; 3],
 }
 
 impl<'a> Run<'a> {
@@ -385,6 +396,7 @@ impl<'a> Run<'a> {
             cost: lp.cost.clone(),
             x: vec![0.0; lp.total()],
             d: vec![0.0; lp.total()],
+            scratch: Default::default(),
         };
         run.settle_nonbasic();
         run
@@ -400,6 +412,9 @@ impl<'a> Run<'a> {
         self.primal();
         self.dual();
         let lp = self.lp;
+        // The pivots' vectors, their storage reused from pivot to pivot.
+        let (mut alpha, mut alpha_row, mut col) = (Vec::new(), Vec::new(), Vec::new());
+        let mut cands: Vec<(usize, f64, f64)> = Vec::new();
         let infeasible = self.basis.head.iter().any(|&j| self.violation(j) != 0.0);
         if infeasible {
             // Shift costs to make the start dual feasible, then the dual method.
@@ -462,36 +477,34 @@ impl<'a> Run<'a> {
                 };
                 let s = if v < 0.0 { 1.0 } else { -1.0 };
                 let r = lp.rows;
-                let rho = self.inv()[p * r..(p + 1) * r].to_vec();
-                let alpha_row = lp.row_times(&rho);
+                lp.row_times_into(&self.inv()[p * r..(p + 1) * r], &mut alpha_row);
                 let big = alpha_row.iter().fold(0.0f64, |a, x| a.max(x.abs()));
                 // Harris's two passes over the candidates (d_j moves by theta s alpha_j).
-                let cands: Vec<(usize, f64, f64)> = (0..lp.total())
-                    .filter_map(|j| {
-                        let at = self.basis.at[j];
-                        if at == At::Basic || lp.lo[j] == lp.hi[j] {
-                            return None;
-                        }
-                        let a = s * alpha_row[j];
-                        if a.abs() <= PIVOT * big {
-                            return None;
-                        }
-                        let d = self.d[j];
-                        let room = match at {
-                            At::Lower if a < 0.0 => d.max(0.0),
-                            At::Upper if a > 0.0 => (-d).max(0.0),
-                            At::Zero => {
-                                if a < 0.0 {
-                                    d.max(0.0)
-                                } else {
-                                    (-d).max(0.0)
-                                }
+                cands.clear();
+                cands.extend((0..lp.total()).filter_map(|j| {
+                    let at = self.basis.at[j];
+                    if at == At::Basic || lp.lo[j] == lp.hi[j] {
+                        return None;
+                    }
+                    let a = s * alpha_row[j];
+                    if a.abs() <= PIVOT * big {
+                        return None;
+                    }
+                    let d = self.d[j];
+                    let room = match at {
+                        At::Lower if a < 0.0 => d.max(0.0),
+                        At::Upper if a > 0.0 => (-d).max(0.0),
+                        At::Zero => {
+                            if a < 0.0 {
+                                d.max(0.0)
+                            } else {
+                                (-d).max(0.0)
                             }
-                            _ => return None,
-                        };
-                        Some((j, room, a.abs()))
-                    })
-                    .collect();
+                        }
+                        _ => return None,
+                    };
+                    Some((j, room, a.abs()))
+                }));
                 if cands.is_empty() {
                     if since > 0 {
                         since = 0;
@@ -510,7 +523,7 @@ impl<'a> Run<'a> {
                     .filter(|&&(_, room, a)| room / a <= bound)
                     .max_by(|x, y| x.2.total_cmp(&y.2))
                     .expect("the least ratio is a candidate");
-                let alpha = self.column(q);
+                self.column_into(q, &mut col, &mut alpha);
                 let arq = alpha_row[q];
                 if alpha[p].abs() <= PIVOT * big.max(1.0) * 1e-3 {
                     return Err("a vanishing pivot".into());
@@ -565,6 +578,7 @@ impl<'a> Run<'a> {
         // values and reduced costs updated at each pivot and recomputed every
         // `REFRESH` pivots and before optimality is declared.
         let mut weight = vec![1.0f64; lp.total()];
+        let mut rooms: Vec<(usize, f64, f64, f64, At)> = Vec::new();
         let mut since = 0u64;
         // Consecutive steps that moved nothing; from `STALL` on, Bland's rule (the first
         // candidate by index to enter, the first by index among the least ratios to leave)
@@ -603,26 +617,25 @@ impl<'a> Run<'a> {
             };
             // Increase q when its reduced cost is negative.
             let sigma = if self.d[q] < 0.0 { 1.0 } else { -1.0 };
-            let alpha = self.column(q);
+            self.column_into(q, &mut col, &mut alpha);
             let big = alpha.iter().fold(0.0f64, |a, x| a.max(x.abs()));
             // Basic k moves by -sigma t alpha_k: (position, room, rate, bound hit, at).
-            let rooms: Vec<(usize, f64, f64, f64, At)> = (0..lp.rows)
-                .filter_map(|k| {
-                    let j = self.basis.head[k];
-                    let delta = -sigma * alpha[k];
-                    if delta.abs() <= PIVOT * big {
-                        return None;
-                    }
-                    let (v, lo, hi) = (self.x[j], lp.lo[j], lp.hi[j]);
-                    if delta < 0.0 && lo.is_finite() {
-                        Some((k, (v - lo).max(0.0), -delta, lo, At::Lower))
-                    } else if delta > 0.0 && hi.is_finite() {
-                        Some((k, (hi - v).max(0.0), delta, hi, At::Upper))
-                    } else {
-                        None
-                    }
-                })
-                .collect();
+            rooms.clear();
+            rooms.extend((0..lp.rows).filter_map(|k| {
+                let j = self.basis.head[k];
+                let delta = -sigma * alpha[k];
+                if delta.abs() <= PIVOT * big {
+                    return None;
+                }
+                let (v, lo, hi) = (self.x[j], lp.lo[j], lp.hi[j]);
+                if delta < 0.0 && lo.is_finite() {
+                    Some((k, (v - lo).max(0.0), -delta, lo, At::Lower))
+                } else if delta > 0.0 && hi.is_finite() {
+                    Some((k, (hi - v).max(0.0), delta, hi, At::Upper))
+                } else {
+                    None
+                }
+            }));
             let own = if sigma > 0.0 {
                 lp.hi[q] - self.x[q]
             } else {
@@ -668,7 +681,8 @@ impl<'a> Run<'a> {
             self.x[q] += sigma * t;
             // The pivot row, for the reduced costs and the weights.
             let r = lp.rows;
-            let row = lp.row_times(&self.inv()[p * r..(p + 1) * r]);
+            lp.row_times_into(&self.inv()[p * r..(p + 1) * r], &mut alpha_row);
+            let row = &alpha_row;
             let (aq, dq, wq) = (alpha[p], self.d[q], weight[q]);
             let out = self.basis.head[p];
             for j in 0..lp.total() {

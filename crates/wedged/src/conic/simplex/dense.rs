@@ -209,9 +209,10 @@ kernel! {
 }
 
 kernel! {
-    /// The square row-major matrix `inv` times `v`.
-    pub(super) fn times(inv: &[f64], v: &[f64]) -> Vec<f64> {
-        inv.chunks(v.len()).map(|row| dot8(row, v)).collect()
+    /// The square row-major matrix `inv` times `v`, into `out` (its storage reused).
+    pub(super) fn times_into(inv: &[f64], v: &[f64], out: &mut Vec<f64>) {
+        out.clear();
+        out.extend(inv.chunks(v.len()).map(|row| dot8(row, v)));
     }
 }
 
@@ -240,10 +241,13 @@ kernel! {
         for a in &mut inv[p * r..(p + 1) * r] {
             *a *= f;
         }
-        let prow: Vec<f64> = inv[p * r..(p + 1) * r].to_vec();
-        for (k, &ak) in alpha.iter().enumerate() {
-            if k != p && ak != 0.0 {
-                for (a, b) in inv[k * r..(k + 1) * r].iter_mut().zip(&prow) {
+        // Row `p` borrowed beside the others rather than copied (a copy a pivot).
+        let (before, rest) = inv.split_at_mut(p * r);
+        let (prow, after) = rest.split_at_mut(r);
+        let others = before.chunks_exact_mut(r).zip(&alpha[..p]);
+        for (row, &ak) in others.chain(after.chunks_exact_mut(r).zip(&alpha[p + 1..])) {
+            if ak != 0.0 {
+                for (a, b) in row.iter_mut().zip(prow.iter()) {
                     *a -= ak * b;
                 }
             }
@@ -351,7 +355,9 @@ mod tests {
         let r = 13;
         let inv = values(r * r, 7);
         let v = values(r, 8);
-        let product = times(&inv, &v);
+        let mut product = vec![1.0; 3];
+        times_into(&inv, &v, &mut product);
+        assert_eq!(product.len(), r);
         for k in 0..r {
             assert_eq!(
                 product[k].to_bits(),

@@ -2,7 +2,7 @@
 //! bounds, basic values and reduced costs recomputed from the inverse, the cost perturbation,
 //! the tests of a variable's bounds and reduced cost, a pivot and a column of `B^-1 [A  -I]`.
 
-use super::dense::{axpy, dot, eliminate, times};
+use super::dense::{axpy, dot, eliminate, times_into};
 use super::{At, Run, PERTURB, TOL};
 
 impl Run<'_> {
@@ -35,48 +35,50 @@ impl Run<'_> {
     pub(super) fn primal(&mut self) {
         let lp = self.lp;
         let n = lp.n;
+        let [mut xn, mut rhs, mut xb] = std::mem::take(&mut self.scratch);
         // The nonbasic columns' values (zero at the basic ones).
-        let xn: Vec<f64> = (0..n)
-            .map(|j| {
-                if self.basis.at[j] == At::Basic {
-                    0.0
-                } else {
-                    self.x[j]
-                }
-            })
-            .collect();
+        xn.clear();
+        xn.extend((0..n).map(|j| {
+            if self.basis.at[j] == At::Basic {
+                0.0
+            } else {
+                self.x[j]
+            }
+        }));
         let any = xn.iter().any(|&v| v != 0.0);
-        let rhs: Vec<f64> = (0..lp.rows)
-            .map(|k| {
-                let from_columns = if any { -dot(lp.row(k), &xn) } else { 0.0 };
-                let j = n + k;
-                let own = if self.basis.at[j] != At::Basic {
-                    self.x[j]
-                } else {
-                    0.0
-                };
-                from_columns + own
-            })
-            .collect();
-        let xb = times(self.inv(), &rhs);
-        for (k, v) in xb.into_iter().enumerate() {
+        rhs.clear();
+        rhs.extend((0..lp.rows).map(|k| {
+            let from_columns = if any { -dot(lp.row(k), &xn) } else { 0.0 };
+            let j = n + k;
+            let own = if self.basis.at[j] != At::Basic {
+                self.x[j]
+            } else {
+                0.0
+            };
+            from_columns + own
+        }));
+        times_into(self.inv(), &rhs, &mut xb);
+        for (k, &v) in xb.iter().enumerate() {
             let j = self.basis.head[k];
             self.x[j] = v;
         }
+        self.scratch = [xn, rhs, xb];
     }
 
     /// Reduced costs: `d = c - (c_B B^-1) [A  -I]`.
     pub(super) fn dual(&mut self) {
         let r = self.lp.rows;
+        let [mut y, mut ya, other] = std::mem::take(&mut self.scratch);
         let inv = self.inv();
-        let mut y = vec![0.0; r];
+        y.clear();
+        y.resize(r, 0.0);
         for (k, &j) in self.basis.head.iter().enumerate() {
             let c = self.cost[j];
             if c != 0.0 {
                 axpy(&mut y, c, &inv[k * r..(k + 1) * r]);
             }
         }
-        let ya = self.lp.row_times(&y);
+        self.lp.row_times_into(&y, &mut ya);
         for (j, d) in self.d.iter_mut().enumerate() {
             *d = if self.basis.at[j] == At::Basic {
                 0.0
@@ -84,6 +86,7 @@ impl Run<'_> {
                 self.cost[j] - ya[j]
             };
         }
+        self.scratch = [y, ya, other];
     }
 
     /// How far basic variable `j` is below its lower bound (negative) or above its upper
@@ -146,16 +149,18 @@ impl Run<'_> {
         };
     }
 
-    /// `B^-1 a_q`.
-    pub(super) fn column(&self, q: usize) -> Vec<f64> {
+    /// `B^-1 a_q` into `alpha` (`col` a buffer for `a_q`; the storage of both reused).
+    pub(super) fn column_into(&self, q: usize, col: &mut Vec<f64>, alpha: &mut Vec<f64>) {
         let (lp, r) = (self.lp, self.lp.rows);
         let inv = self.inv();
         if q < lp.n {
-            let col: Vec<f64> = (0..r).map(|k| lp.row(k)[q]).collect();
-            times(inv, &col)
+            col.clear();
+            col.extend((0..r).map(|k| lp.row(k)[q]));
+            times_into(inv, col, alpha);
         } else {
             let i = q - lp.n;
-            (0..r).map(|k| -inv[k * r + i]).collect()
+            alpha.clear();
+            alpha.extend((0..r).map(|k| -inv[k * r + i]));
         }
     }
 }
