@@ -300,8 +300,8 @@ fn double_description(rows: &[f64], k: usize, tol: f64) -> Result<(Held, usize),
     let inv = b0
         .try_inverse()
         .ok_or("the face's starting rows are singular")?;
-    let mut done = vec![false; n];
-    chosen.iter().for_each(|&i| done[i] = true);
+    let mut starting = vec![false; n];
+    chosen.iter().for_each(|&i| starting[i] = true);
     let mut rays = Held::new(k, n);
     let mut zero = vec![0u64; rays.words];
     chosen.iter().for_each(|&i| zero[i / 64] |= 1 << (i % 64));
@@ -315,8 +315,9 @@ fn double_description(rows: &[f64], k: usize, tol: f64) -> Result<(Held, usize),
     let mut peak = rays.len();
     let mut next = Held::new(k, n);
     let (mut values, mut plus, mut minus) = (Vec::new(), Vec::new(), Vec::new());
-    for i in 0..n {
-        if done[i] {
+    for (i, &start) in starting.iter().enumerate() {
+        // (The starting rows are in every ray's zero set already.)
+        if start {
             continue;
         }
         let r = row(i);
@@ -373,7 +374,6 @@ fn double_description(rows: &[f64], k: usize, tol: f64) -> Result<(Held, usize),
         peak = peak.max(next.len() + minus.len());
         debug_assert!(next.len() >= kept);
         std::mem::swap(&mut rays, &mut next);
-        done[i] = true;
     }
     Ok((rays, peak))
 }
