@@ -113,7 +113,11 @@ pub(crate) fn one_row_short(a: &DMatrix<f64>) -> Option<OneShort> {
     }
     let qr = a.transpose().qr();
     let r = qr.r();
-    let inverse = r.solve_upper_triangular(&DMatrix::identity(rows, rows))?;
+    // `R^-1` in place of the identity (one matrix, not a copy; `false` when `R` is singular).
+    let mut inverse = DMatrix::identity(rows, rows);
+    if !r.solve_upper_triangular_mut(&mut inverse) {
+        return None;
+    }
     let inverse_norm = inverse.norm();
     if !inverse_norm.is_finite() || inverse_norm == 0.0 {
         return None;
@@ -123,18 +127,21 @@ pub(crate) fn one_row_short(a: &DMatrix<f64>) -> Option<OneShort> {
     let j = (0..n).min_by(|&x, &y| covered(x).total_cmp(&covered(y)))?;
     let mut v = nalgebra::DVector::<f64>::zeros(n);
     v[j] = 1.0;
+    // `v -= Q (Q^T v)` twice, the products into two vectors made once.
+    let mut c = nalgebra::DVector::<f64>::zeros(rows);
+    let mut qc = nalgebra::DVector::<f64>::zeros(n);
     for _ in 0..2 {
-        let c = q.tr_mul(&v);
-        v -= &q * c;
+        q.tr_mul_to(&v, &mut c);
+        q.mul_to(&c, &mut qc);
+        v -= &qc;
     }
     let norm = v.norm();
+    let mut null: Vec<f64> = v.data.into();
+    null.iter_mut().for_each(|x| *x /= norm);
     Some(OneShort {
-        null: v.iter().map(|x| x / norm).collect(),
+        null,
         least_at_least: 1.0 / inverse_norm,
-        least_at_most: r
-            .diagonal()
-            .iter()
-            .fold(f64::INFINITY, |m, x| m.min(x.abs())),
+        least_at_most: (0..rows).fold(f64::INFINITY, |m, i| m.min(r[(i, i)].abs())),
         top_at_least: a.row_iter().fold(0.0f64, |m, row| m.max(row.norm())),
         top_at_most: a.norm(),
     })

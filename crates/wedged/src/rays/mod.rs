@@ -155,6 +155,7 @@ pub fn enumerate_with_control(
             )
         })
         .collect();
+    rays.reserve(checked.len());
     for ray in checked.into_iter().flatten() {
         rays.push(ray?);
     }
