@@ -382,10 +382,10 @@ struct Run<'a> {
     x: Vec<f64>,
     /// Reduced costs (basic ones zero).
     d: Vec<f64>,
-    /// Buffers that [`Run::primal`] and [`Run::dual`] reuse from call to call (a run's
-    /// allocations had been most of a small program's cost: about 75 a program on the random
-    /// m = 9 enumeration).
-    pub(super) scratch: [Vec<f64>; 3],
+    /// Buffers that [`Run::primal`] and [`Run::dual`] reuse from call to call. (With a new
+    /// vector for each of a run's products, a program of the random m = 9 enumeration made
+    /// about 75 allocations.)
+    scratch: [Vec<f64>; 3],
 }
 
 impl<'a> Run<'a> {
