@@ -516,15 +516,16 @@ impl Problem {
                     .sum::<f64>();
             }
         }
-        let (mut residual, mut du) = (vec![0.0; n], vec![0.0; n]);
+        let mut buffer = vec![0.0; 2 * n];
+        let (residual, du) = buffer.split_at_mut(n);
         for _ in 0..2 {
-            apply(k, &u, &mut residual);
+            apply(k, &u, residual);
             residual
                 .iter_mut()
                 .zip(r)
                 .for_each(|(ku, ri)| *ku = ri - *ku);
-            apply(g, &residual, &mut du);
-            u.iter_mut().zip(&du).for_each(|(x, d)| *x += d);
+            apply(g, residual, du);
+            u.iter_mut().zip(du.iter()).for_each(|(x, d)| *x += d);
         }
         u
     }

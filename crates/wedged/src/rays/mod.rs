@@ -143,12 +143,11 @@ pub fn enumerate_with_control(
             if !stopped && control.must_stop(0) {
                 return None;
             }
-            let r: Vec<f64> = raw_ray
-                .r
-                .iter()
-                .enumerate()
-                .map(|(a, x)| x * t[a / 2])
-                .collect();
+            // The raw ray's own vector, in the equilibrated units.
+            let mut r = raw_ray.r;
+            for (a, x) in r.iter_mut().enumerate() {
+                *x *= t[a / 2];
+            }
             Some(
                 polish_and_verify(&scaled, &r, raw_ray.status, settings.zero_tol)
                     .map(|ray| in_units_of(ray, &t)),
@@ -177,30 +176,21 @@ pub fn enumerate_with_control(
 
 /// A ray of the equilibrated problem (node scales `t`) in the problem's own units: `r = T^-1 r'`,
 /// `u = T u'`, renormalised to `sum r_n = 1`.
-fn in_units_of(ray: Ray, t: &[f64]) -> Ray {
+fn in_units_of(mut ray: Ray, t: &[f64]) -> Ray {
     if t.iter().all(|&x| x == 1.0) {
         return ray;
     }
-    let mut r: Vec<f64> = ray
-        .r
-        .iter()
-        .enumerate()
-        .map(|(a, x)| x / t[a / 2])
-        .collect();
-    let mut u: Vec<f64> = ray
-        .u
-        .iter()
-        .enumerate()
-        .map(|(a, x)| x * t[a / 2])
-        .collect();
-    let total: f64 = r.iter().step_by(2).sum();
-    r.iter_mut().for_each(|x| *x /= total);
-    u.iter_mut().for_each(|x| *x /= total);
-    Ray {
-        u,
-        r,
-        status: ray.status,
+    // In place: the ray's own vectors hold the new values.
+    for (a, x) in ray.r.iter_mut().enumerate() {
+        *x /= t[a / 2];
     }
+    for (a, x) in ray.u.iter_mut().enumerate() {
+        *x *= t[a / 2];
+    }
+    let total: f64 = ray.r.iter().step_by(2).sum();
+    ray.r.iter_mut().for_each(|x| *x /= total);
+    ray.u.iter_mut().for_each(|x| *x /= total);
+    ray
 }
 
 /// The maximal cross-complementary sets of `rays`, each with its pattern, in canonical order.

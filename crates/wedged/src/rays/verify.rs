@@ -88,11 +88,9 @@ fn tight(problem: &Problem, status: &[NodeStatus]) -> Tight {
             NodeStatus::SlipMinus => free.push((i, slip, -mu * slip)),
         }
     }
-    let closed: Vec<usize> = (0..status.len())
-        .filter(|&i| status[i] != NodeStatus::Separated)
-        .collect();
-    let mut rows = DMatrix::<f64>::zeros(closed.len(), free.len());
-    for (row, &i) in closed.iter().enumerate() {
+    let closed = || (0..status.len()).filter(|&i| status[i] != NodeStatus::Separated);
+    let mut rows = DMatrix::<f64>::zeros(closed().count(), free.len());
+    for (row, i) in closed().enumerate() {
         let norm = g.row(2 * i).norm();
         if norm > 0.0 {
             for (col, &(j, a, b)) in free.iter().enumerate() {
@@ -187,7 +185,8 @@ fn polish_and_check(
             v[2 * i + 1] += b * x;
         }
         let scale = sum_n(&v);
-        let mut polished: Vec<f64> = v.iter().map(|x| x / scale).collect();
+        let mut polished = v;
+        polished.iter_mut().for_each(|x| *x /= scale);
         // Put the tight friction constraints exactly in place: they are part of the status.
         let mu = problem.mu();
         for (i, s) in status.iter().enumerate() {
@@ -298,7 +297,10 @@ pub fn verify_ray(problem: &Problem, ray: &Ray, tol: f64) -> Result<(), VerifyEr
     // `K u` and `|K| |u|` column by column (the storage order), each entry summed over `j` in
     // order as a row's sum would be: the same values, without striding across the columns
     // (the row sums had been a sixth of a ray's check).
-    let (mut ku, mut sizes) = (vec![0.0; n], vec![0.0; n]);
+    // One buffer for the three sums of this check (`K u`, `|K| |u|`, the rows of `|G|`).
+    let mut sums = vec![0.0; 3 * n];
+    let (ku, rest) = sums.split_at_mut(n);
+    let (sizes, g_sizes) = rest.split_at_mut(n);
     for (column, &uj) in k.as_slice().chunks_exact(n).zip(&ray.u) {
         for ((o, s), a) in ku.iter_mut().zip(sizes.iter_mut()).zip(column) {
             *o += a * uj;
@@ -321,7 +323,6 @@ pub fn verify_ray(problem: &Problem, ray: &Ray, tol: f64) -> Result<(), VerifyEr
     }
     let r_max = ray.r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     // The rows' sums of `|G|`, column by column as above.
-    let mut g_sizes = vec![0.0; n];
     for column in g.as_slice().chunks_exact(n) {
         for (s, a) in g_sizes.iter_mut().zip(column) {
             *s += a.abs();
