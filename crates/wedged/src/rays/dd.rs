@@ -225,10 +225,13 @@ impl Rays {
     }
 }
 
-fn bit(z: &[u64], b: usize) -> bool {
+/// Bit `b` of the bit set `z` (words of 64; also the faces' double description's,
+/// `rays/search/face.rs`).
+pub(super) fn bit(z: &[u64], b: usize) -> bool {
     z[b / 64] >> (b % 64) & 1 == 1
 }
-fn set_bit(z: &mut [u64], b: usize) {
+/// Sets bit `b` of `z`.
+pub(super) fn set_bit(z: &mut [u64], b: usize) {
     z[b / 64] |= 1 << (b % 64);
 }
 

@@ -294,11 +294,11 @@ pub fn verify_ray(problem: &Problem, ray: &Ray, tol: f64) -> Result<(), VerifyEr
     if ray.u.iter().chain(&ray.r).any(|x| !x.is_finite()) {
         return Err(fail(0, "non-finite entry".into()));
     }
-    // `K u` and `|K| |u|` column by column (the storage order), each entry summed over `j` in
-    // order as a row's sum would be: the same values, without striding across the columns
-    // (the row sums had been a sixth of a ray's check).
-    // One buffer for the three sums of this check (`K u`, `|K| |u|`, the rows of `|G|`).
-    let mut sums = vec![0.0; 3 * n];
+    // `K u`, `|K| |u|` and (below) the normal rows' sums of `|G|`, in one buffer, column by
+    // column (the storage order), each entry summed over `j` in order as a row's sum would be:
+    // the same values, without striding across the columns (the row sums had been a sixth of
+    // a ray's check).
+    let mut sums = vec![0.0; 2 * n + n / 2];
     let (ku, rest) = sums.split_at_mut(n);
     let (sizes, g_sizes) = rest.split_at_mut(n);
     for (column, &uj) in k.as_slice().chunks_exact(n).zip(&ray.u) {
@@ -322,16 +322,16 @@ pub fn verify_ray(problem: &Problem, ray: &Ray, tol: f64) -> Result<(), VerifyEr
         return Err(fail(0, format!("sum of r_n is {total}, not 1")));
     }
     let r_max = ray.r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    // The rows' sums of `|G|`, column by column as above.
+    // Row `2i` of `|G|` summed for node `i` (its normal gap), column by column as above.
     for column in g.as_slice().chunks_exact(n) {
-        for (s, a) in g_sizes.iter_mut().zip(column) {
+        for (s, a) in g_sizes.iter_mut().zip(column.iter().step_by(2)) {
             *s += a.abs();
         }
     }
     for (i, &s) in ray.status.iter().enumerate() {
         let (un, rn, rt) = (ray.u[2 * i], ray.r[2 * i], ray.r[2 * i + 1]);
         // How far u_n moves when r moves by its own largest entry.
-        let u_scale: f64 = g_sizes[2 * i] * r_max;
+        let u_scale: f64 = g_sizes[i] * r_max;
         let gap_zero = un.abs() <= tol * u_scale;
         let gap_open = un > STRICT_MARGIN * u_scale;
         let r_zero = rn == 0.0 && rt == 0.0;

@@ -22,6 +22,7 @@ use nalgebra::DMatrix;
 use crate::conic::contact_lp::{Entry2, LeafSupport};
 use crate::conic::program::{Class, Formulation};
 use crate::linalg::null_space;
+use crate::rays::dd::{bit, set_bit};
 use crate::solution::NodeStatus;
 
 /// A ray of a face in the search's (equilibrated) units: reactions, `sum r_n = 1`, and status.
@@ -225,10 +226,10 @@ impl Held {
     }
     /// Whether ray `j` is tight on row `i`.
     fn zero(&self, j: usize, i: usize) -> bool {
-        self.z(j)[i / 64] >> (i % 64) & 1 == 1
+        bit(self.z(j), i)
     }
-    /// A new ray: `y` scaled to unit max-norm, zero on the rows of `z` and on row `also`.
-    fn push(&mut self, y: impl Iterator<Item = f64>, z: impl Iterator<Item = u64>, also: usize) {
+    /// A new ray: `y` scaled to unit max-norm, zero on the rows of `z`.
+    fn push(&mut self, y: impl Iterator<Item = f64>, z: impl Iterator<Item = u64>) {
         let from = self.ys.len();
         self.ys.extend(y);
         let y = &mut self.ys[from..];
@@ -236,9 +237,12 @@ impl Held {
         if s > 0.0 {
             y.iter_mut().for_each(|x| *x /= s);
         }
-        let from = self.zs.len();
         self.zs.extend(z);
-        self.zs[from + also / 64] |= 1 << (also % 64);
+    }
+    /// The last ray made tight on row `i` too.
+    fn tight_last(&mut self, i: usize) {
+        let from = self.zs.len() - self.words;
+        set_bit(&mut self.zs[from..], i);
     }
     fn clear(&mut self) {
         self.ys.clear();
@@ -304,13 +308,14 @@ fn double_description(rows: &[f64], k: usize, tol: f64) -> Result<(Held, usize),
     chosen.iter().for_each(|&i| starting[i] = true);
     let mut rays = Held::new(k, n);
     let mut zero = vec![0u64; rays.words];
-    chosen.iter().for_each(|&i| zero[i / 64] |= 1 << (i % 64));
+    chosen.iter().for_each(|&c| set_bit(&mut zero, c));
     for (j, &i) in chosen.iter().enumerate() {
         // Tight on every starting row but its own.
-        let y = (0..k).map(|a| inv[(a, j)]);
-        rays.push(y, zero.iter().copied(), i);
-        let from = j * rays.words;
-        rays.zs[from + i / 64] &= !(1 << (i % 64));
+        let own = |(w, &x): (usize, &u64)| if w == i / 64 { x & !(1 << (i % 64)) } else { x };
+        rays.push(
+            (0..k).map(|a| inv[(a, j)]),
+            zero.iter().enumerate().map(own),
+        );
     }
     let mut peak = rays.len();
     let mut next = Held::new(k, n);
@@ -343,8 +348,7 @@ fn double_description(rows: &[f64], k: usize, tol: f64) -> Result<(Held, usize),
                 next.ys.extend_from_slice(rays.y(j));
                 next.zs.extend_from_slice(rays.z(j));
                 if v == 0.0 {
-                    let from = next.zs.len() - next.words;
-                    next.zs[from + i / 64] |= 1 << (i % 64);
+                    next.tight_last(i);
                 }
             }
         }
@@ -368,7 +372,8 @@ fn double_description(rows: &[f64], k: usize, tol: f64) -> Result<(Held, usize),
                     .iter()
                     .zip(rays.y(q))
                     .map(|(a, b)| vp * b - vq * a);
-                next.push(y, zp.iter().zip(zq).map(|(a, b)| a & b), i);
+                next.push(y, zp.iter().zip(zq).map(|(a, b)| a & b));
+                next.tight_last(i);
             }
         }
         peak = peak.max(next.len() + minus.len());
