@@ -1,9 +1,10 @@
 //! Enumeration of the 2D solution set: the complementary extreme rays of `C` and the maximal
 //! cross-complementary sets of them (MISSION sections 3 and 4).
 //!
-//! Three methods find the rays; they share the finishing step in this file, which recomputes each
-//! ray from its tight constraints, checks it ([`crate::verify`]), puts the rays in canonical order
-//! and finds the maximal cliques ([`crate::cliques`]).
+//! Several methods find the rays; they share the finishing step in this file, which recomputes
+//! each ray from its tight constraints, checks it ([`crate::verify`]), puts the rays in canonical
+//! order and finds the maximal cliques ([`crate::cliques`]). (The search calls the same check
+//! itself, on the thread that described each face: `search::run`.)
 //!
 //! - [`Method::PrunedDd`] (`dd.rs`, pruned variant): the seed's algorithm, the default.
 //! - [`Method::FullDd`] (`dd.rs`, full variant): all extreme rays of `C` by double description,
@@ -77,6 +78,15 @@ pub fn enumerate_with_control(
     let mut info = Info::default();
     let mut exact_rays: Vec<Ray> = Vec::new();
     let mut undecided = None;
+    // Rays are polished and verified in equilibrated units (node scales by powers of two, so
+    // exact): the rank and sign decisions of the check then do not depend on the units of
+    // each node, as the answer must not. They are reported in the problem's own units.
+    let (scaled, t) = problem.equilibrated();
+    let check = |r: &[f64], status: Vec<NodeStatus>| {
+        polish_and_verify(&scaled, r, status, settings.zero_tol).map(|ray| in_units_of(ray, &t))
+    };
+    // The search checks its rays itself, on the thread that found each face.
+    let mut checked_by_search = Vec::new();
     let raw = if control.must_stop(0) {
         Vec::new()
     } else {
@@ -115,21 +125,15 @@ pub fn enumerate_with_control(
             ),
             Method::Faces => faces::run(problem, settings, &mut info, &control),
             Method::Search => {
-                let (rays, stop) = search::run(problem, settings, &mut info, progress, &control);
+                let (checked, stop) =
+                    search::run(problem, settings, &mut info, progress, &control, &check);
+                checked_by_search = checked;
                 undecided = stop;
-                rays
+                Vec::new()
             }
         }
     };
     let mut rays = exact_rays;
-    // Rays are polished and verified in equilibrated units (node scales by powers of two, so
-    // exact): the rank and sign decisions of the check then do not depend on the units of
-    // each node, as the answer must not. They are reported in the problem's own units.
-    let (scaled, t) = if raw.is_empty() {
-        (problem.clone(), vec![1.0; problem.nodes()])
-    } else {
-        problem.equilibrated()
-    };
     // Each ray on its own, in parallel (a QR factorisation each, a singular value decomposition
     // where its bounds do not decide: `verify::quick`), in order, so that a failure reported
     // is the first one.
@@ -148,11 +152,9 @@ pub fn enumerate_with_control(
             for (a, x) in r.iter_mut().enumerate() {
                 *x *= t[a / 2];
             }
-            Some(
-                polish_and_verify(&scaled, &r, raw_ray.status, settings.zero_tol)
-                    .map(|ray| in_units_of(ray, &t)),
-            )
+            Some(check(&r, raw_ray.status))
         })
+        .chain(checked_by_search.into_par_iter().map(Some))
         .collect();
     rays.reserve(checked.len());
     for ray in checked.into_iter().flatten() {
