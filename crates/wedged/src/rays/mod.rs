@@ -126,7 +126,7 @@ pub fn enumerate_with_control(
             Method::Faces => faces::run(problem, settings, &mut info, &control),
             Method::Search => {
                 let (checked, stop) =
-                    search::run(problem, settings, &mut info, progress, &control, &check);
+                    search::run(&scaled, settings, &mut info, progress, &control, &check);
                 checked_by_search = checked;
                 undecided = stop;
                 Vec::new()
@@ -154,10 +154,9 @@ pub fn enumerate_with_control(
             }
             Some(check(&r, raw_ray.status))
         })
-        .chain(checked_by_search.into_par_iter().map(Some))
         .collect();
-    rays.reserve(checked.len());
-    for ray in checked.into_iter().flatten() {
+    rays.reserve(checked.len() + checked_by_search.len());
+    for ray in checked.into_iter().flatten().chain(checked_by_search) {
         rays.push(ray?);
     }
     rays.sort_by(|a, b| a.status.cmp(&b.status));

@@ -23,9 +23,9 @@ mod face;
 pub(crate) mod tree;
 
 use std::collections::HashSet;
+use std::sync::Mutex;
 
 use rayon::prelude::*;
-use std::sync::Mutex;
 
 use super::params::{Info, Progress, Settings};
 use super::verify::VerifyError;
@@ -112,30 +112,30 @@ pub(crate) type Check<'a> = dyn Fn(&[f64], Vec<NodeStatus>) -> Result<Ray, Verif
 /// medians 0.97 and 0.98 on seeds 0 and 1.)
 const CHECKED_TOGETHER: usize = 16;
 
-/// Runs the method; returns the rays found, each checked by `check` (one result per status,
-/// in the order of the statuses), and, when some decision could not be made, that the run is
-/// incomplete.
+/// Runs the method on `scaled`, the problem equilibrated ([`Problem::equilibrated`], the
+/// finishing step's too); returns the rays found, each checked by `check` (one result per
+/// status, in the order of the statuses), and, when some decision could not be made, that the
+/// run is incomplete.
 ///
 /// Each face's new rays are checked as the face is described, on the thread that found it
 /// (a face's many rays in parallel, [`CHECKED_TOGETHER`] or more to a task, so that the other
 /// thread helps with a large last face): the check shares the tree's parallel walk instead of
-/// waiting for its end. (As a phase of
-/// its own, after the walk, the check of the 439 rays of the random m = 9 problem of seed 0
-/// often ran on one thread only: the other had gone to sleep at the end of the walk and woke
-/// late or not at all, 0.65 ms on two threads, 1.2 ms when one slept.) A ray found in several
-/// faces is checked once, by the first face to claim its status; the polished ray and every
-/// verdict but the agreement with the raw ray depend on the status only, and the raw rays of
-/// one status from different faces agree to round-off.
+/// waiting for its end. (As a phase of its own, after the walk, the check of the 439 rays of
+/// the random m = 9 problem of seed 0 often ran on one thread only: the other had gone to
+/// sleep at the end of the walk and woke late or not at all, 0.65 ms on two threads, 1.2 ms
+/// when one slept.) A ray found in several faces is checked once, by the first face to claim
+/// its status; the polished ray and every verdict but the agreement with the raw ray depend
+/// on the status only, and the raw rays of one status from different faces agree to
+/// round-off.
 pub(crate) fn run(
-    problem: &Problem,
+    scaled: &Problem,
     settings: &Settings,
     info: &mut Info,
     progress: &dyn Fn(Progress),
     control: &Control,
     check: &Check,
 ) -> (Vec<Result<Ray, VerifyError>>, Option<Stop>) {
-    let (scaled, _) = problem.equilibrated();
-    let form = Formulation::new(&scaled);
+    let form = Formulation::new(scaled);
     let lp = ContactLp::new(&form);
     // Each leaf's face is described as the leaf is found, on the thread that found it, so that
     // the faces share the tree's parallel walk instead of waiting for its end, and so is the
@@ -263,7 +263,7 @@ mod tests {
             let control = Control::new(Limits::default(), &cancel);
             let mut info = Info::default();
             let settings = Settings::default();
-            let (checked, stop) = run(&p, &settings, &mut info, &|_| {}, &control, &check);
+            let (checked, stop) = run(&scaled, &settings, &mut info, &|_| {}, &control, &check);
             assert!(stop.is_none());
             let mut seen = seen.into_inner().unwrap();
             let calls = seen.len();
