@@ -161,9 +161,12 @@ pub(crate) fn run(
                     })
                     .collect()
             };
+            // Once the run must stop, the rays not yet checked are left out (as the finishing
+            // step leaves them): a large face's checks do not hold up a limit or Ctrl-C.
             let rays = new
                 .into_par_iter()
                 .with_min_len(CHECKED_TOGETHER)
+                .filter(|_| !control.must_stop(0))
                 .map(|ray| {
                     let status = ray.status.clone();
                     (status, check(&ray.r, ray.status))
