@@ -49,6 +49,7 @@ mod bnb;
 pub mod certify;
 mod edge;
 mod enumerate;
+mod exact;
 mod faces;
 mod improve;
 mod newton;
@@ -60,9 +61,7 @@ use std::fmt;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
-use nalgebra::DMatrix;
-
-use crate::solution::{check_solution, tangential, ContactPattern, NodeStatus};
+use crate::solution::{check_solution, ContactPattern, NodeStatus};
 
 use crate::conic::program::{
     leaf_classes, Counters, Decision, Formulation, Goal, Norm, Refutation,
@@ -522,128 +521,7 @@ pub(crate) struct Leaf {
     pub lower: f64,
 }
 
-/// A pressure below this share of the largest one (with `sum r_n = 1`) is taken as zero when a
-/// solver point is made exact: far below the solver's accuracy.
-const DROP: f64 = 1e-9;
-
-/// A pressure below this share of the largest may be dropped when it spoils an exact point
-/// ([`Ctx::exact_point`]).
-const SMALL: f64 = 1e-4;
-
-/// A scaled gap off the contact set below this is closed exactly when a solver point is made
-/// exact: the solver's accuracy, far below [`crate::conic::program::POSITIVE`].
-const CLOSED: f64 = 1e-8;
-
 impl Ctx<'_, '_> {
-    /// Makes a solver point of the leaf of `contact`, solved at friction coefficient `target`
-    /// (`INFINITY` for none), exact: nodes with a negligible pressure get `r = 0`, the rest is
-    /// projected (least change) onto the leaf's equalities `u_n_i = 0`, `i` in the contact set
-    /// (and the gaps the solver left closed), and rescaled to `sum r_n = 1`. Returns its ratio
-    /// `max ||r_t_i|| / r_n_i` and the point, or `None` when the projected point leaves the leaf
-    /// (a gap open below zero beyond round-off).
-    ///
-    /// A node whose small pressure the solver should have left at zero (it only carries the
-    /// solver's round-off) can spoil the point: after projection its pressure is negative, or
-    /// its ratio exceeds `target`. Such a node, if its pressure is below [`SMALL`] of the
-    /// largest, is dropped too (`r = 0`, its gap stays closed) and the projection redone.
-    pub(crate) fn exact_point(
-        &self,
-        contact: &[bool],
-        r: &[f64],
-        target: f64,
-    ) -> Option<(f64, Vec<f64>)> {
-        let f = self.form;
-        let (d, m) = (f.dim, f.m);
-        let top = (0..m).map(|i| r[d * i]).fold(0.0f64, f64::max);
-        if top <= 0.0 {
-            return None;
-        }
-        let mut pressed: Vec<usize> = (0..m)
-            .filter(|&i| contact[i] && r[d * i] > DROP * top)
-            .collect();
-        // The leaf's equalities, and the gaps off the contact set that the solver left at zero
-        // (within its accuracy, possibly a little negative): those are closed exactly too.
-        let rows: Vec<usize> = (0..m)
-            .filter(|&i| contact[i] || f.gap_of(r, i) < CLOSED)
-            .collect();
-        loop {
-            let out = self.project(r, &pressed, &rows)?;
-            let ratio = |j: usize| tangential(&out, d, j) / out[d * j];
-            let bad = pressed
-                .iter()
-                .copied()
-                .filter(|&j| out[d * j] <= 0.0 || ratio(j) > target * (1.0 + 1e-9))
-                .min_by(|&a, &b| r[d * a].total_cmp(&r[d * b]));
-            match bad {
-                Some(j) if r[d * j] < SMALL * top && pressed.len() > 1 => {
-                    pressed.retain(|&i| i != j);
-                }
-                _ => {
-                    if pressed.iter().any(|&j| out[d * j] <= 0.0) {
-                        return None;
-                    }
-                    // Gaps off the contact set stay open or closed (round-off allowed: scaled
-                    // gaps are of order one).
-                    if (0..m).any(|i| !contact[i] && f.gap_of(&out, i) < -1e-12) {
-                        return None;
-                    }
-                    let theta = pressed.iter().map(|&j| ratio(j)).fold(0.0f64, f64::max);
-                    return Some((theta, out));
-                }
-            }
-        }
-    }
-
-    /// The reactions of `pressed` in `r`, projected onto `u_n_i = 0` for `i` in `rows`,
-    /// normalised (`None` when nothing is left).
-    fn project(&self, r: &[f64], pressed: &[usize], rows: &[usize]) -> Option<Vec<f64>> {
-        let f = self.form;
-        let (d, m) = (f.dim, f.m);
-        if pressed.is_empty() {
-            return None;
-        }
-        // The pressed nodes' reactions, then (a floating body) the rigid amplitudes.
-        let k = f.modes;
-        let mut x: Vec<f64> = pressed
-            .iter()
-            .flat_map(|&j| (0..d).map(move |c| r[d * j + c]))
-            // A point without amplitudes (a pattern's witness) starts them at zero.
-            .chain((0..k).map(|j| r.get(d * m + j).copied().unwrap_or(0.0)))
-            .collect();
-        let on = d * pressed.len();
-        let gap = f.problem.compliance();
-        let rigid = f.problem.rigid_modes();
-        // Rows: the closed gaps `u_n_i = (G r + R a)_n_i = 0`, then `R^T r = 0`.
-        let a = DMatrix::from_fn(rows.len() + k, x.len(), |row, col| {
-            match (rows.get(row), col < on) {
-                (Some(&i), true) => gap[(d * i, d * pressed[col / d] + col % d)],
-                (Some(&i), false) => rigid[(d * i, col - on)],
-                (None, true) => rigid[(d * pressed[col / d] + col % d, row - rows.len())],
-                (None, false) => 0.0,
-            }
-        });
-        if a.nrows() > 0 {
-            // Two rounds of least-change projection x -= A^+ (A x).
-            let svd = a.clone().svd(true, true);
-            for _ in 0..2 {
-                let ax = &a * nalgebra::DVector::from_column_slice(&x);
-                let dx = svd.solve(&ax, 1e-13 * svd.singular_values.max()).ok()?;
-                x.iter_mut().zip(dx.iter()).for_each(|(v, dv)| *v -= dv);
-            }
-        }
-        let mut out = vec![0.0; d * m + k];
-        for (p, &j) in pressed.iter().enumerate() {
-            out[d * j..d * j + d].copy_from_slice(&x[d * p..d * p + d]);
-        }
-        out[d * m..].copy_from_slice(&x[on..]);
-        let total: f64 = (0..m).map(|i| out[d * i]).sum();
-        if total <= 0.0 || !total.is_finite() {
-            return None;
-        }
-        out.iter_mut().for_each(|v| *v /= total);
-        Some(out)
-    }
-
     /// The threshold of the leaf of `contact`, from a solution `r` of it at ratio `hi`, or
     /// `None` when the leaf is certified infeasible at `cap()` (the caller's current bar, read
     /// afresh each step; `INFINITY` for none).
