@@ -174,7 +174,7 @@ impl Ctx<'_, '_> {
         // The unknowns for the reactions: each a combination of reaction components (index,
         // weight), starting at its value in `r`. A free node has one per component (weight 1,
         // so that the plain projection is computed exactly as it was before the edges), a node
-        // on its edge one, its reaction divided by its normal pressure.
+        // on its edge one, its normal pressure, along the edge in its own tangential direction.
         let mut columns: Vec<Vec<(usize, f64)>> = Vec::new();
         let mut x: Vec<f64> = Vec::new();
         for &j in pressed {
@@ -198,7 +198,7 @@ impl Ctx<'_, '_> {
             }
         }
         let on = columns.len();
-        let edges_kept = pressed.iter().any(|&j| on_edge(j));
+        let edges_kept = on < d * pressed.len();
         // Then (a floating body) the rigid amplitudes; a point without them (a pattern's
         // witness) starts them at zero.
         let k = f.modes;
