@@ -128,6 +128,13 @@ pub(crate) struct CriticalArgs {
     /// `wedged merge`, which gives the one-run bracket (see `enumerate --shard`).
     #[arg(long, value_name = "I/N", value_parser = wedged::Shard::parse)]
     pub(crate) shard: Option<wedged::Shard>,
+    /// Start the bnb search from the wedged configuration of an earlier `critical --json`
+    /// result, such as the same body on a coarser mesh (its contact pattern mapped to this
+    /// mesh's contact nodes by position, on the same face): a first upper end near mu* at
+    /// once, where the search's own first leaf can be far above on a fine mesh. The bracket does
+    /// not depend on it. Not used with --certify or --shard.
+    #[arg(long, value_name = "PREVIOUS.json")]
+    pub(crate) start: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]

@@ -563,6 +563,7 @@ pub fn plan_critical(options: &CriticalOptions) -> Result<CriticalSettings, Fail
         certify: options.certify,
         fault: injected_fault()?,
         shard: options.shard,
+        start: None,
     })
 }
 

@@ -1566,3 +1566,75 @@ fn an_internal_failure_exits_1_and_says_it_is_a_bug() {
         &["WEDGED_INJECT_FAULT", "no-such-fault"],
     );
 }
+
+/// `critical --start`: a coarser mesh's answer of the same body, mapped by position, starts the
+/// finer mesh's search (no dive) and leaves its bracket as it was; an earlier result of the same
+/// problem too; a missing file, a file that is not JSON, and a result without a witness are bad
+/// input.
+#[test]
+fn critical_starts_from_a_coarser_meshs_answer() {
+    let example = fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plug2d.toml"),
+    )
+    .unwrap();
+    let with_size = |nx: usize, ny: usize| -> String {
+        example
+            .lines()
+            .map(|l| {
+                if l.starts_with("nx = ") {
+                    format!("nx = {nx}")
+                } else if l.starts_with("ny = ") {
+                    format!("ny = {ny}")
+                } else {
+                    l.to_string()
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    let dir = dir_with(&[
+        ("coarse.toml", &with_size(5, 4)),
+        ("fine.toml", &with_size(10, 8)),
+        ("nothing.json", "{\"status\": \"never\"}"),
+        ("text.json", "not json"),
+    ]);
+    let run = |file: &str, extra: &[&str]| -> Value {
+        let mut args = vec!["critical", file, "--json", "-"];
+        args.extend_from_slice(extra);
+        let out = wedged(&args);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        json_stdout(&out)
+    };
+    let (coarse, fine) = (path_in(&dir, "coarse.toml"), path_in(&dir, "fine.toml"));
+    let coarse_json = path_in(&dir, "coarse.json");
+    fs::write(&coarse_json, run(&coarse, &[]).to_string()).unwrap();
+    let plain = run(&fine, &[]);
+    let fine_json = path_in(&dir, "fine.json");
+    fs::write(&fine_json, plain.to_string()).unwrap();
+    assert_eq!(plain["status"], "wedged");
+    assert!(plain["info"]["dive_nodes"].as_u64().unwrap() > 0);
+    for start in [&coarse_json, &fine_json] {
+        let started = run(&fine, &["--start", start]);
+        assert_eq!(started["status"], "wedged", "{start}");
+        assert_eq!(
+            started["info"]["dive_nodes"], 0,
+            "{start}: the dive was not skipped"
+        );
+        for end in ["lower", "upper"] {
+            let (a, b) = (plain[end].as_f64().unwrap(), started[end].as_f64().unwrap());
+            assert!((a - b).abs() <= 1e-8 * a, "{start}: {end} {a} against {b}");
+        }
+    }
+    assert_bad_input(
+        &wedged(&["critical", &fine, "--start", &path_in(&dir, "missing.json")]),
+        &["cannot read", "missing.json"],
+    );
+    assert_bad_input(
+        &wedged(&["critical", &fine, "--start", &path_in(&dir, "text.json")]),
+        &["text.json", "is not JSON"],
+    );
+    assert_bad_input(
+        &wedged(&["critical", &fine, "--start", &path_in(&dir, "nothing.json")]),
+        &["nothing.json", "no witness pattern"],
+    );
+}

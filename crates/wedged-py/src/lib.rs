@@ -384,12 +384,13 @@ fn critical_json(
     tol: Option<f64>,
     progress: bool,
     shard: Option<&str>,
+    (start, start_file): (Option<Vec<bool>>, Option<PathBuf>),
 ) -> PyResult<String> {
     let shard = shard
         .map(wedged::Shard::parse)
         .transpose()
         .map_err(|e| InputError::new_err(format!("shard: {e}")))?;
-    let settings = jobs::plan_critical(&CriticalOptions {
+    let mut settings = jobs::plan_critical(&CriticalOptions {
         method: critical_method_of(method)?,
         tol,
         time_limit,
@@ -397,6 +398,15 @@ fn critical_json(
         shard,
     })
     .map_err(to_py)?;
+    // As `critical --start`: a contact set, or an earlier result's mapped onto this problem.
+    settings.start = match (start, start_file) {
+        (Some(start), _) => Some(start),
+        (None, Some(path)) => Some(
+            wedged_cli::input::start::start_contact(&path, problem.nodes(), model)
+                .map_err(InputError::new_err)?,
+        ),
+        (None, None) => None,
+    };
     released(py, |cancel| {
         let result =
             jobs::run_critical_library(problem, &settings, source, cancel, show(progress))?;
@@ -447,10 +457,11 @@ fn merge(parts: Vec<(String, String)>) -> PyResult<(String, bool, String)> {
     Ok((merged.json, merged.complete, merged.summary))
 }
 
-/// `critical(K, dim, method, time_limit, certify, tol, progress, rigid_modes, shard)`: the
-/// JSON of `wedged critical` on the condensed stiffness `K` (`shard` is `"I/N"`).
+/// `critical(K, dim, method, time_limit, certify, tol, progress, rigid_modes, shard, start,
+/// start_file)`: the JSON of `wedged critical` on the condensed stiffness `K` (`shard` is
+/// `"I/N"`; `start` a contact set, `start_file` an earlier result, as `--start`).
 #[pyfunction]
-#[pyo3(signature = (k, dim=2, method=None, time_limit=None, certify=false, tol=None, progress=false, rigid_modes=None, shard=None))]
+#[pyo3(signature = (k, dim=2, method=None, time_limit=None, certify=false, tol=None, progress=false, rigid_modes=None, shard=None, start=None, start_file=None))]
 #[allow(clippy::too_many_arguments)]
 fn critical(
     py: Python<'_>,
@@ -463,11 +474,23 @@ fn critical(
     progress: bool,
     rigid_modes: Option<PyReadonlyArray2<'_, f64>>,
     shard: Option<&str>,
+    start: Option<Vec<bool>>,
+    start_file: Option<PathBuf>,
 ) -> PyResult<String> {
     // mu plays no part in mu*; 1 passes the check of mu.
     let problem = matrix_problem(&k, rigid_modes.as_ref(), dim, 1.0)?;
     critical_json(
-        py, &problem, None, "K", method, time_limit, certify, tol, progress, shard,
+        py,
+        &problem,
+        None,
+        "K",
+        method,
+        time_limit,
+        certify,
+        tol,
+        progress,
+        shard,
+        (start, start_file),
     )
 }
 
@@ -570,8 +593,9 @@ impl LoadedProblem {
         )
     }
 
-    /// The JSON of `wedged critical FILE [--shard I/N]`.
-    #[pyo3(signature = (method=None, time_limit=None, certify=false, tol=None, progress=false, shard=None))]
+    /// The JSON of `wedged critical FILE [--shard I/N] [--start PREVIOUS.json]` (`start` a
+    /// contact set, `start_file` an earlier result).
+    #[pyo3(signature = (method=None, time_limit=None, certify=false, tol=None, progress=false, shard=None, start=None, start_file=None))]
     #[allow(clippy::too_many_arguments)]
     fn critical(
         &self,
@@ -582,6 +606,8 @@ impl LoadedProblem {
         tol: Option<f64>,
         progress: bool,
         shard: Option<&str>,
+        start: Option<Vec<bool>>,
+        start_file: Option<PathBuf>,
     ) -> PyResult<String> {
         critical_json(
             py,
@@ -594,6 +620,7 @@ impl LoadedProblem {
             tol,
             progress,
             shard,
+            (start, start_file),
         )
     }
 

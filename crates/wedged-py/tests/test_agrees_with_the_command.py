@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import wedged
-from conftest import EXAMPLES, FIXTURES, cli_json, same_critical, stable
+from conftest import EXAMPLES, FIXTURES, cli_json, plug_toml, same_critical, stable
 
 FILES = [
     EXAMPLES / "plug2d.toml",
@@ -68,3 +68,23 @@ def test_a_matrix_from_python_equals_its_problem_file(tmp_path):
     command = cli_json("critical", str(toml))
     critical["source"] = command["source"]
     same_critical(critical, command)
+
+
+def test_critical_start_equals_the_command(tmp_path):
+    """`start=`: a coarser mesh's result (a path, mapped by position, as `--start`) or a
+    contact set; the command's answer, the dive skipped, and a start of the wrong length is an
+    InputError."""
+    coarse, fine = plug_toml(tmp_path, 5), plug_toml(tmp_path, 10)
+    earlier = tmp_path / "coarse.json"
+    earlier.write_text(json.dumps(cli_json("critical", str(coarse))))
+    problem = wedged.load(fine)
+    python = json.loads(problem.critical(start=earlier).to_json())
+    command = cli_json("critical", str(fine), "--start", str(earlier))
+    same_critical(python, command)
+    same_critical(python, cli_json("critical", str(fine)))
+    assert python["info"]["dive_nodes"] == 0 and command["info"]["dive_nodes"] == 0
+    contact = [p == "contact" for p in python["witness"]["pattern"]]
+    by_set = wedged.critical(problem.K, start=contact)
+    assert abs(by_set.mu - python["mu_critical"]) <= 2e-9 * by_set.mu
+    with pytest.raises(wedged.InputError, match="start contact set has 3 entries"):
+        wedged.critical(problem.K, start=[True, False, True])

@@ -14,6 +14,7 @@ use crate::report::files::write_atomic;
 use crate::report::files::{JsonTarget, PendingFile};
 use crate::report::{self, summary};
 use wedged_cli::input::problem_file;
+use wedged_cli::input::start::start_contact;
 use wedged_cli::jobs::{
     critical_certification_failure, plan_critical, run_critical_library, CriticalOptions,
 };
@@ -85,6 +86,11 @@ pub(crate) fn run_critical(args: CriticalArgs) -> Result<(), Failure> {
             )));
         }
         job.settings.shard = Some(shard);
+    }
+    if let Some(path) = &args.start {
+        let start =
+            start_contact(path, job.problem.nodes(), job.model.as_ref()).map_err(Failure::Input)?;
+        job.settings.start = Some(start);
     }
     report_critical(job)
 }

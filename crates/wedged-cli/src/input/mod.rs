@@ -1,7 +1,9 @@
 //! The readers of the files a user gives: the TOML problem file ([`problem_file`]), Matrix
 //! Market stiffness files ([`mtx`], also the writer of `condense`), Gmsh MSH 4.1 meshes
-//! ([`msh`]). Each error is one line that names the file (and the line, where there is one).
+//! ([`msh`]), and an earlier result that `critical --start` starts from ([`start`]). Each error
+//! is one line that names the file (and the line, where there is one).
 
 pub mod msh;
 pub mod mtx;
 pub mod problem_file;
+pub mod start;

@@ -617,6 +617,12 @@ fn info_lines(out: &mut String, problem: &Problem, result: &Critical) {
                 plural(info.dive_nodes as usize, "node", "nodes"),
                 plural(info.improvement_steps as usize, "step", "steps")
             ));
+        } else if info.improvement_steps > 0 {
+            // No dive: the run started from the caller's contact set (`--start`).
+            search.push(format!(
+                "the first leaf from the start's contact set (no dive), improved in {} of                  local search over contact sets",
+                plural(info.improvement_steps as usize, "step", "steps")
+            ));
         }
         if info.simplex_solves + info.simplex_fallbacks > 0 {
             search.push(format!(

@@ -430,13 +430,17 @@ def critical(
     progress: bool = False,
     rigid_modes: Any = None,
     shard: Any = None,
+    start: Any = None,
 ) -> Critical:
     """The critical friction coefficient ``mu*`` of the condensed stiffness ``K``: the least
     ``mu`` at which WP has a solution ``(u, r) != 0``, bracketed to the relative width ``tol``
     (default 1e-9). ``method``: ``bnb`` (default), ``enumerate`` or ``faces``; ``certify``
     checks every pruning decision behind ``lower`` and the witness at ``upper`` exactly.
     ``rigid_modes``: as in :func:`enumerate`, for a floating body. ``shard``: ``(i, n)``, one
-    shard of the ``bnb`` search (combined by :func:`merge`; see :mod:`wedged.distributed`)."""
+    shard of the ``bnb`` search (combined by :func:`merge`; see :mod:`wedged.distributed`).
+    ``start``: where the ``bnb`` search starts, as ``critical --start``: a contact set (one
+    bool per node) or the path of an earlier result's JSON with as many nodes; the bracket
+    does not depend on it."""
     text = _wedged.critical(
         _matrix(K),
         dim=int(dim),
@@ -447,8 +451,18 @@ def critical(
         progress=bool(progress),
         rigid_modes=_modes(rigid_modes),
         shard=_shard(shard),
+        **_start(start),
     )
     return Critical._from_json(text)
+
+
+def _start(start: Any) -> dict:
+    """The native keywords of ``start``: a path (``start_file``) or a contact set."""
+    if start is None:
+        return {}
+    if isinstance(start, (str, os.PathLike)):
+        return {"start_file": os.fspath(start)}
+    return {"start": [bool(c) for c in start]}
 
 
 class Problem:
@@ -504,9 +518,11 @@ class Problem:
         return Enumeration._from_run(run, self if self.is_mesh else None)
 
     def critical(self, **kw: Any) -> Critical:
-        """As :func:`critical`."""
+        """As :func:`critical`; a ``start`` path is an earlier result of the same body,
+        on this mesh or another (mapped by the contact nodes' positions, as ``--start``)."""
         if "shard" in kw:
             kw["shard"] = _shard(kw["shard"])
+        kw.update(_start(kw.pop("start", None)))
         text = self._loaded.critical(**kw)
         return Critical._from_json(text, self if self.is_mesh else None)
 

@@ -50,6 +50,8 @@ def critical(
     progress: bool = False,
     rigid_modes: Optional[npt.NDArray[np.float64]] = None,
     shard: Optional[str] = None,
+    start: Optional[List[bool]] = None,
+    start_file: Optional[str] = None,
 ) -> str: ...
 def load(path: str) -> LoadedProblem: ...
 def merge(parts: List[Tuple[str, str]]) -> Tuple[str, bool, str]: ...
@@ -84,6 +86,8 @@ class LoadedProblem:
         tol: Optional[float] = None,
         progress: bool = False,
         shard: Optional[str] = None,
+        start: Optional[List[bool]] = None,
+        start_file: Optional[str] = None,
     ) -> str: ...
     def mesh(self) -> Dict[str, Any]: ...
     def recover(

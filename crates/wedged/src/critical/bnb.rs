@@ -608,7 +608,7 @@ impl Search<'_, '_, '_> {
 pub(super) fn run(
     ctx: &Ctx,
     info: &mut CriticalInfo,
-    shard: Option<Shard>,
+    (shard, start): (Option<Shard>, Option<&[bool]>),
     progress: &dyn Fn(CriticalProgress),
     control: &Control,
     hooks: Hooks,
@@ -691,15 +691,24 @@ pub(super) fn run(
                 if ctx.form.dim == 2 {
                     first(&search);
                 }
+                // The caller's start (`CriticalSettings::start`): its leaf, improved as the
+                // run's first (`found`), replaces the dive, which on the 2D plug at m = 400
+                // found nothing below such a leaf in its 4,000 nodes.
+                let started = start
+                    .and_then(|s| leaf_of(ctx, &search.lp, control, s.to_vec(), ctx.form.mu))
+                    .map(|leaf| search.found(leaf, false))
+                    .is_some();
                 // The dive: the first bar's tree, the separated child first, ended at its
                 // first leaf (improved by `found`) or after its budget. It proves nothing; the
                 // passes below start over with its leaf as the incumbent.
-                search.dive.store(true, Ordering::Relaxed);
-                search.bar.store(ctx.form.mu.to_bits(), Ordering::Relaxed);
-                explored.reset();
-                Walk::new(&search, &explored).run(None);
-                search.dive.store(false, Ordering::Relaxed);
-                search.end_pass.store(false, Ordering::Relaxed);
+                if !started {
+                    search.dive.store(true, Ordering::Relaxed);
+                    search.bar.store(ctx.form.mu.to_bits(), Ordering::Relaxed);
+                    explored.reset();
+                    Walk::new(&search, &explored).run(None);
+                    search.dive.store(false, Ordering::Relaxed);
+                    search.end_pass.store(false, Ordering::Relaxed);
+                }
                 dived = search.visited.load(Ordering::Relaxed);
                 if ctx.form.dim != 2 && search.best.lock().is_ok_and(|b| b.is_none()) {
                     first(&search);

@@ -124,7 +124,7 @@ pub(super) fn run(
         return Ok(super::bnb::run(
             ctx,
             info,
-            None,
+            (None, None),
             progress,
             control,
             Default::default(),

@@ -139,6 +139,15 @@ pub struct CriticalSettings {
     /// its part of the tree; [`merge_shards`] gives the one-run bracket from all of them.
     /// `None` (the default): the whole search.
     pub shard: Option<Shard>,
+    /// A contact set to start `bnb` from (one entry per node, `true` in contact), such as the
+    /// answer on a coarser mesh of the same body mapped to this one: its leaf (from the
+    /// problem's `mu`, doubled up to 64 times) improved by local search becomes the first
+    /// incumbent, and the first leaf's dive is skipped. It changes how fast the bracket is
+    /// found, never the bracket. (On the 2D plug at m = 400 the answer at m = 200 mapped
+    /// gives 1.7719 in 2 s, about 1% above `mu*`, where the dive's rounded root gives 2.2812
+    /// after 340 s; `BENCHMARKS.md`.) Not used by a certified run, a shard (whose top must be
+    /// the same in every process) or the other methods. `None` (the default): the dive.
+    pub start: Option<Vec<bool>>,
 }
 
 impl Default for CriticalSettings {
@@ -150,6 +159,7 @@ impl Default for CriticalSettings {
             certify: false,
             fault: None,
             shard: None,
+            start: None,
         }
     }
 }
@@ -344,6 +354,20 @@ pub fn critical_with_control(
             settings.method.name()
         )));
     }
+    if let Some(start) = &settings.start {
+        if start.len() != problem.nodes() {
+            return Err(EnumerateError::InvalidSettings(format!(
+                "the start contact set has {} entries for {} nodes",
+                start.len(),
+                problem.nodes()
+            )));
+        }
+        if !start.contains(&true) {
+            return Err(EnumerateError::InvalidSettings(
+                "the start contact set has no node in contact".to_string(),
+            ));
+        }
+    }
     if problem.is_floating() {
         let why = crate::patterns::floating_certify_refusal(problem.dim(), settings.certify);
         if let Some(why) = why {
@@ -376,7 +400,15 @@ pub fn critical_with_control(
         match settings.method {
             CriticalMethod::Bnb => {
                 let hooks = bnb::Hooks::of(settings.fault);
-                bnb::run(&ctx, &mut info, settings.shard, progress, &control, hooks)
+                let start = settings.start.as_deref();
+                bnb::run(
+                    &ctx,
+                    &mut info,
+                    (settings.shard, start),
+                    progress,
+                    &control,
+                    hooks,
+                )
             }
             CriticalMethod::Faces => faces::run(&ctx, &mut info, progress, &control),
             CriticalMethod::Enumerate => {
