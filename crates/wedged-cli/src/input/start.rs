@@ -113,8 +113,8 @@ mod tests {
             (vec![0.0, 1.0], vec![1.0, 0.0]),
             (vec![0.1, 0.5], vec![-1.0, 0.0]),
         ];
-        assert_eq!(nearest(&earlier, &[0.0, 0.45], &[1.0, 0.0]), Some(1));
-        assert_eq!(nearest(&earlier, &[0.0, 0.45], &[-1.0, 0.0]), Some(2));
+        assert_eq!(nearest(&earlier, &[0.0, 0.55], &[1.0, 0.0]), Some(1));
+        assert_eq!(nearest(&earlier, &[0.0, 0.55], &[-1.0, 0.0]), Some(2));
         assert_eq!(nearest(&earlier, &[0.0, 0.2], &[0.0, 1.0]), Some(0));
     }
 }
