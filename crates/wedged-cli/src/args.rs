@@ -203,6 +203,11 @@ pub(crate) struct StudyArgs {
     /// Certify each point's bracket exactly (as `critical --certify`)
     #[arg(long)]
     pub(crate) certify: bool,
+    /// Compute every point from scratch. By default a point on a finer mesh (a refining key
+    /// changed, the others the same) starts its search from the answer of the last such point
+    /// computed, as `critical --start` does; the brackets do not depend on it
+    #[arg(long)]
+    pub(crate) no_chain: bool,
     /// --tol as for `critical`; --time-limit applies to each point
     #[command(flatten)]
     pub(crate) common: CriticalCommon,

@@ -198,6 +198,50 @@ fn a_refinement_study_is_plotted_against_h_and_extrapolated() {
     );
 }
 
+/// A finer mesh's point starts from the coarser point's answer of the same body (the same
+/// Poisson's ratio), never from another body's, and the study's numbers are those of a study
+/// that computes every point from scratch (`--no-chain`).
+#[test]
+fn finer_points_start_from_the_coarser_answer_of_the_same_body() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = dir.path().join("plug.toml");
+    fs::write(&base, plug(0.3, 1, 2.0)).unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let out_dir = dir.path().join(name);
+        let mut args = vec![
+            "study",
+            base.to_str().unwrap(),
+            "--vary",
+            "material.poisson=0.2,0.35",
+            "--vary",
+            "refine=4,6,8",
+            "--out",
+            out_dir.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let out = wedged(&args);
+        assert_code(&out, 0);
+        (csv(&out_dir.join("study.csv")), text(&out.stdout))
+    };
+    let (chained, said) = run("chained", &[]);
+    let (scratch, said_scratch) = run("scratch", &["--no-chain"]);
+    let started: Vec<bool> = said
+        .lines()
+        .filter(|l| l.contains("refine = "))
+        .map(|l| l.contains("started from the coarser answer"))
+        .collect();
+    // Grid order: Poisson's ratio slowest; the first mesh of each body has nothing to start from.
+    assert_eq!(started, [false, true, true, false, true, true], "{said}");
+    assert!(!said_scratch.contains("started from"), "{said_scratch}");
+    assert_eq!(column(&chained, "m"), ["8", "12", "16", "8", "12", "16"]);
+    for key in ["lower", "upper"] {
+        for (a, b) in column(&chained, key).iter().zip(column(&scratch, key)) {
+            let (a, b): (f64, f64) = (a.parse().unwrap(), b.parse().unwrap());
+            assert!((a - b).abs() <= 1e-8 * b.abs(), "{key}: {a} against {b}");
+        }
+    }
+}
+
 #[test]
 fn a_point_stopped_by_the_time_limit_is_incomplete_and_computed_again() {
     let dir = tempfile::tempdir().unwrap();

@@ -18,6 +18,7 @@ use crate::draw::study_svg::{study_svg, Point, Series};
 use crate::report::files::write_atomic;
 use crate::report::sig4;
 use wedged_cli::input::problem_file;
+use wedged_cli::input::start::Earlier;
 use wedged_cli::jobs::{plan_critical, run_critical_library, CriticalOptions};
 use wedged_cli::study::{self, Parameter, Row};
 
@@ -78,6 +79,9 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
     let width = total.saturating_sub(1).to_string().len();
     let mut rows: Vec<Option<Row>> = vec![None; total];
     let mut vtus: Vec<PathBuf> = Vec::new();
+    // The answers computed in this run, by grid position: a finer point's start ([`chained`]).
+    let mut answers: Vec<Option<Earlier>> = vec![None; total];
+    let chain = !args.no_chain && parameters.iter().any(|p| study::refines(&p.key));
     let mut interrupted = false;
     let mut reused = 0;
     write_stdout(&format!(
@@ -120,6 +124,15 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
         let (loaded, _) = problem_file::parse_str_for_critical(&edited, &args.problem)
             .map_err(|e| input(format!("point {label}: {e}")))?;
         let point_source = format!("{source} [{label}]");
+        let mut settings = settings.clone();
+        if chain {
+            settings.start = chained(&parameters, &grid, &answers, k).and_then(|earlier| {
+                let model = loaded.model.as_ref();
+                let start = earlier.onto(loaded.problem.nodes(), model, &point_source);
+                start.ok().filter(|s| s.contains(&true))
+            });
+        }
+        let chained_from = settings.start.is_some();
         let result = run_critical_library(
             &loaded.problem,
             &settings,
@@ -131,6 +144,9 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
             wedged_cli::jobs::critical_certification_failure(&point_source, &result)
         {
             return Err(failure);
+        }
+        if let Some(witness) = &result.witness {
+            answers[k] = Some(Earlier::of(&witness.pattern, loaded.model.as_ref()));
         }
         let complete = !matches!(result.status, CriticalStatus::Incomplete(_));
         let row = Row {
@@ -157,9 +173,14 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
             vtus.push(vtu);
         }
         write_stdout(&format!(
-            "  [{:>w$}/{total}] {label}: {}\n",
+            "  [{:>w$}/{total}] {label}: {}{}\n",
             k + 1,
             row_text(&row),
+            if chained_from {
+                ", started from the coarser answer"
+            } else {
+                ""
+            },
             w = total.to_string().len()
         ))?;
         rows[k] = Some(row);
@@ -349,6 +370,28 @@ fn x_axis(parameters: &[Parameter], asked: Option<&str>) -> Result<String, Strin
             Ok(if study::refines(first) { "h" } else { first }.to_string())
         }
     }
+}
+
+/// The answer that grid point `k` starts from: that of the last point before it computed in
+/// this run that differs from it in refining keys only ([`study::refines`]: the same body on
+/// another mesh), `None` when there is none. (On the plug's mesh-convergence study the finer
+/// meshes then skip the search's dive: `BENCHMARKS.md`.)
+fn chained<'a>(
+    parameters: &[Parameter],
+    grid: &[Vec<f64>],
+    answers: &'a [Option<Earlier>],
+    k: usize,
+) -> Option<&'a Earlier> {
+    let same_body = |j: usize| {
+        parameters
+            .iter()
+            .enumerate()
+            .all(|(p, parameter)| study::refines(&parameter.key) || grid[j][p] == grid[k][p])
+    };
+    (0..k)
+        .rev()
+        .filter(|&j| same_body(j))
+        .find_map(|j| answers[j].as_ref())
 }
 
 fn point_label(parameters: &[Parameter], values: &[String]) -> String {

@@ -13,6 +13,102 @@ use std::path::Path;
 use serde_json::Value;
 use wedged::fe::Model;
 
+/// An earlier result's answer as a start: its witness's contact pattern and, on a mesh, each
+/// of its contact nodes' position and normal.
+#[derive(Debug, Clone)]
+pub struct Earlier {
+    /// Whether each earlier contact node is in contact in the witness.
+    pub pattern: Vec<bool>,
+    /// Each earlier contact node's position and normal (`None` without a mesh).
+    pub nodes: Option<Vec<(Vec<f64>, Vec<f64>)>>,
+}
+
+impl Earlier {
+    /// The answer of a result computed just now: the witness's `pattern` on the contact nodes
+    /// of `model` (if any), for `study`'s finer points ([`Earlier::onto`]).
+    pub fn of(pattern: &[wedged::ContactPattern], model: Option<&Model>) -> Earlier {
+        Earlier {
+            pattern: pattern
+                .iter()
+                .map(|p| *p == wedged::ContactPattern::Contact)
+                .collect(),
+            nodes: model.map(contact_nodes),
+        }
+    }
+
+    /// The earlier answer in the result at `path` (a `wedged critical --json` file), or a
+    /// one-line reason why there is none.
+    pub fn read(path: &Path) -> Result<Earlier, String> {
+        let place = path.display();
+        let text =
+            std::fs::read_to_string(path).map_err(|e| format!("cannot read {place}: {e}"))?;
+        Earlier::parse(&text, &place.to_string())
+    }
+
+    /// The earlier answer in the text of a `wedged critical --json` result (`place` names it in
+    /// errors), or a one-line reason why there is none.
+    pub fn parse(text: &str, place: &str) -> Result<Earlier, String> {
+        let json: Value =
+            serde_json::from_str(text).map_err(|e| format!("{place} is not JSON: {e}"))?;
+        let pattern: Vec<bool> = json
+            .pointer("/witness/pattern")
+            .and_then(Value::as_array)
+            .ok_or_else(|| {
+                format!(
+                    "{place} has no witness pattern (a result of `wedged critical --json` that \
+                     found a wedged configuration is needed)"
+                )
+            })?
+            .iter()
+            .map(|p| p.as_str() == Some("contact"))
+            .collect();
+        let nodes = json
+            .pointer("/model/contact")
+            .and_then(Value::as_array)
+            .map(|nodes| {
+                nodes
+                    .iter()
+                    .map(|c| (numbers(c.get("x")), numbers(c.get("n"))))
+                    .collect()
+            });
+        Ok(Earlier { pattern, nodes })
+    }
+
+    /// The start contact set for a problem of `nodes` contact nodes (with its mesh `model`,
+    /// if any): each node takes the pattern of the nearest earlier node on its face, or, with
+    /// no positions on either side, the same nodes in order. `Err` names why it does not fit
+    /// (`place`: where the earlier result came from).
+    pub fn onto(
+        &self,
+        nodes: usize,
+        model: Option<&Model>,
+        place: &str,
+    ) -> Result<Vec<bool>, String> {
+        let pattern = &self.pattern;
+        match (&self.nodes, model) {
+            (Some(earlier), Some(model)) if earlier.len() == pattern.len() => {
+                let mapped: Vec<bool> = contact_nodes(model)
+                    .iter()
+                    .map(|(x, n)| nearest(earlier, x, n).is_some_and(|k| pattern[k]))
+                    .collect();
+                if mapped.len() != nodes {
+                    return Err(format!(
+                        "{place}: {} contact nodes mapped for {nodes}",
+                        mapped.len()
+                    ));
+                }
+                Ok(mapped)
+            }
+            _ if pattern.len() == nodes => Ok(pattern.clone()),
+            _ => Err(format!(
+                "{place} has {} contact nodes and no mesh positions to map them onto this \
+                 problem's {nodes}",
+                pattern.len()
+            )),
+        }
+    }
+}
+
 /// The start contact set for a problem of `nodes` contact nodes (with its mesh `model`, if
 /// any) from the result at `path`, or a one-line reason why there is none.
 pub fn start_contact(
@@ -20,61 +116,20 @@ pub fn start_contact(
     nodes: usize,
     model: Option<&Model>,
 ) -> Result<Vec<bool>, String> {
-    let place = path.display();
-    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {place}: {e}"))?;
-    let json: Value =
-        serde_json::from_str(&text).map_err(|e| format!("{place} is not JSON: {e}"))?;
-    let pattern: Vec<bool> = json
-        .pointer("/witness/pattern")
-        .and_then(Value::as_array)
-        .ok_or_else(|| {
-            format!(
-                "{place} has no witness pattern (a result of `wedged critical --json` that \
-                 found a wedged configuration is needed)"
-            )
-        })?
+    Earlier::read(path)?.onto(nodes, model, &path.display().to_string())
+}
+
+/// Each contact node of `model`: its position and its inward normal (as the result JSON's
+/// `model.contact` has them).
+fn contact_nodes(model: &Model) -> Vec<(Vec<f64>, Vec<f64>)> {
+    let mesh = model.mesh();
+    let dim = mesh.dim();
+    let b = model.boundary();
+    b.contact_nodes
         .iter()
-        .map(|p| p.as_str() == Some("contact"))
-        .collect();
-    let earlier: Option<Vec<(Vec<f64>, Vec<f64>)>> = json
-        .pointer("/model/contact")
-        .and_then(Value::as_array)
-        .map(|nodes| {
-            nodes
-                .iter()
-                .map(|c| (numbers(c.get("x")), numbers(c.get("n"))))
-                .collect()
-        });
-    match (earlier, model) {
-        (Some(earlier), Some(model)) if earlier.len() == pattern.len() => {
-            let mesh = model.mesh();
-            let dim = mesh.dim();
-            let b = model.boundary();
-            let mapped: Vec<bool> = b
-                .contact_nodes
-                .iter()
-                .zip(&b.frames)
-                .map(|(&a, f)| {
-                    let x = &mesh.coords()[a][..dim];
-                    let n = &f.n[..dim];
-                    nearest(&earlier, x, n).is_some_and(|k| pattern[k])
-                })
-                .collect();
-            if mapped.len() != nodes {
-                return Err(format!(
-                    "{place}: {} contact nodes mapped for {nodes}",
-                    mapped.len()
-                ));
-            }
-            Ok(mapped)
-        }
-        _ if pattern.len() == nodes => Ok(pattern),
-        _ => Err(format!(
-            "{place} has {} contact nodes and no mesh positions to map them onto this \
-             problem's {nodes}",
-            pattern.len()
-        )),
-    }
+        .zip(&b.frames)
+        .map(|(&a, f)| (mesh.coords()[a][..dim].to_vec(), f.n[..dim].to_vec()))
+        .collect()
 }
 
 /// The numbers of a JSON array (none when it is not one).
