@@ -371,6 +371,10 @@ impl EnumerationRun {
     }
 }
 
+/// Where a Python `critical` starts ([`wedged::CriticalSettings::start`]): a contact set, the
+/// path of an earlier result, or an earlier result's JSON text (a `Critical` in memory).
+type Start = (Option<Vec<bool>>, Option<PathBuf>, Option<String>);
+
 /// Computes `mu*` as `wedged critical` does and returns its JSON document.
 #[allow(clippy::too_many_arguments)]
 fn critical_json(
@@ -384,7 +388,7 @@ fn critical_json(
     tol: Option<f64>,
     progress: bool,
     shard: Option<&str>,
-    (start, start_file): (Option<Vec<bool>>, Option<PathBuf>),
+    start: Start,
 ) -> PyResult<String> {
     let shard = shard
         .map(wedged::Shard::parse)
@@ -399,13 +403,19 @@ fn critical_json(
     })
     .map_err(to_py)?;
     // As `critical --start`: a contact set, or an earlier result's mapped onto this problem.
-    settings.start = match (start, start_file) {
-        (Some(start), _) => Some(start),
-        (None, Some(path)) => Some(
-            wedged_cli::input::start::start_contact(&path, problem.nodes(), model)
+    let (nodes, earlier) = (problem.nodes(), wedged_cli::input::start::Earlier::parse);
+    settings.start = match start {
+        (Some(start), _, _) => Some(start),
+        (None, Some(path), _) => Some(
+            wedged_cli::input::start::start_contact(&path, nodes, model)
                 .map_err(InputError::new_err)?,
         ),
-        (None, None) => None,
+        (None, None, Some(text)) => Some(
+            earlier(&text, "the start result")
+                .and_then(|e| e.onto(nodes, model, "the start result"))
+                .map_err(InputError::new_err)?,
+        ),
+        (None, None, None) => None,
     };
     released(py, |cancel| {
         let result =
@@ -458,10 +468,11 @@ fn merge(parts: Vec<(String, String)>) -> PyResult<(String, bool, String)> {
 }
 
 /// `critical(K, dim, method, time_limit, certify, tol, progress, rigid_modes, shard, start,
-/// start_file)`: the JSON of `wedged critical` on the condensed stiffness `K` (`shard` is
-/// `"I/N"`; `start` a contact set, `start_file` an earlier result, as `--start`).
+/// start_file, start_json)`: the JSON of `wedged critical` on the condensed stiffness `K`
+/// (`shard` is `"I/N"`; `start` a contact set, `start_file` an earlier result, as `--start`,
+/// `start_json` one's text).
 #[pyfunction]
-#[pyo3(signature = (k, dim=2, method=None, time_limit=None, certify=false, tol=None, progress=false, rigid_modes=None, shard=None, start=None, start_file=None))]
+#[pyo3(signature = (k, dim=2, method=None, time_limit=None, certify=false, tol=None, progress=false, rigid_modes=None, shard=None, start=None, start_file=None, start_json=None))]
 #[allow(clippy::too_many_arguments)]
 fn critical(
     py: Python<'_>,
@@ -476,6 +487,7 @@ fn critical(
     shard: Option<&str>,
     start: Option<Vec<bool>>,
     start_file: Option<PathBuf>,
+    start_json: Option<String>,
 ) -> PyResult<String> {
     // mu plays no part in mu*; 1 passes the check of mu.
     let problem = matrix_problem(&k, rigid_modes.as_ref(), dim, 1.0)?;
@@ -490,7 +502,7 @@ fn critical(
         tol,
         progress,
         shard,
-        (start, start_file),
+        (start, start_file, start_json),
     )
 }
 
@@ -594,8 +606,8 @@ impl LoadedProblem {
     }
 
     /// The JSON of `wedged critical FILE [--shard I/N] [--start PREVIOUS.json]` (`start` a
-    /// contact set, `start_file` an earlier result).
-    #[pyo3(signature = (method=None, time_limit=None, certify=false, tol=None, progress=false, shard=None, start=None, start_file=None))]
+    /// contact set, `start_file` an earlier result, `start_json` one's text).
+    #[pyo3(signature = (method=None, time_limit=None, certify=false, tol=None, progress=false, shard=None, start=None, start_file=None, start_json=None))]
     #[allow(clippy::too_many_arguments)]
     fn critical(
         &self,
@@ -608,6 +620,7 @@ impl LoadedProblem {
         shard: Option<&str>,
         start: Option<Vec<bool>>,
         start_file: Option<PathBuf>,
+        start_json: Option<String>,
     ) -> PyResult<String> {
         critical_json(
             py,
@@ -620,7 +633,7 @@ impl LoadedProblem {
             tol,
             progress,
             shard,
-            (start, start_file),
+            (start, start_file, start_json),
         )
     }
 

@@ -83,6 +83,15 @@ def test_critical_start_equals_the_command(tmp_path):
     same_critical(python, command)
     same_critical(python, cli_json("critical", str(fine)))
     assert python["info"]["dive_nodes"] == 0 and command["info"]["dive_nodes"] == 0
+    # An earlier result in memory, as a study in a loop passes it: the same as its file.
+    in_memory = wedged.load(coarse).critical()
+    by_result = json.loads(problem.critical(start=in_memory).to_json())
+    same_critical(by_result, command)
+    assert by_result["info"]["dive_nodes"] == 0
+    same_size = wedged.critical(problem.K, start=wedged.critical(problem.K))
+    assert abs(same_size.mu - python["mu_critical"]) <= 2e-9 * same_size.mu
+    with pytest.raises(wedged.InputError, match="the start result has"):
+        wedged.critical(problem.K, start=in_memory)
     contact = [p == "contact" for p in python["witness"]["pattern"]]
     by_set = wedged.critical(problem.K, start=contact)
     assert abs(by_set.mu - python["mu_critical"]) <= 2e-9 * by_set.mu

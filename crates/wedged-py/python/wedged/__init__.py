@@ -439,8 +439,8 @@ def critical(
     ``rigid_modes``: as in :func:`enumerate`, for a floating body. ``shard``: ``(i, n)``, one
     shard of the ``bnb`` search (combined by :func:`merge`; see :mod:`wedged.distributed`).
     ``start``: where the ``bnb`` search starts, as ``critical --start``: a contact set (one
-    bool per node) or the path of an earlier result's JSON with as many nodes; the bracket
-    does not depend on it."""
+    bool per node), an earlier :class:`Critical` or the path of an earlier result's JSON, with
+    as many nodes; the bracket does not depend on it."""
     text = _wedged.critical(
         _matrix(K),
         dim=int(dim),
@@ -457,11 +457,14 @@ def critical(
 
 
 def _start(start: Any) -> dict:
-    """The native keywords of ``start``: a path (``start_file``) or a contact set."""
+    """The native keywords of ``start``: a path (``start_file``), an earlier :class:`Critical`
+    (its JSON, ``start_json``) or a contact set."""
     if start is None:
         return {}
     if isinstance(start, (str, os.PathLike)):
         return {"start_file": os.fspath(start)}
+    if isinstance(start, Critical):
+        return {"start_json": start.to_json()}
     return {"start": [bool(c) for c in start]}
 
 
@@ -518,8 +521,9 @@ class Problem:
         return Enumeration._from_run(run, self if self.is_mesh else None)
 
     def critical(self, **kw: Any) -> Critical:
-        """As :func:`critical`; a ``start`` path is an earlier result of the same body,
-        on this mesh or another (mapped by the contact nodes' positions, as ``--start``)."""
+        """As :func:`critical`; a ``start`` path or :class:`Critical` is an earlier result of
+        the same body, on this mesh or another (mapped by the contact nodes' positions, as
+        ``--start``): a mesh-convergence study in a loop starts each mesh from the last."""
         if "shard" in kw:
             kw["shard"] = _shard(kw["shard"])
         kw.update(_start(kw.pop("start", None)))
