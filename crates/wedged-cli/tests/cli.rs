@@ -1638,3 +1638,34 @@ fn critical_starts_from_a_coarser_meshs_answer() {
         &["nothing.json", "no witness pattern"],
     );
 }
+
+/// Two one-node bodies in one matrix (`K` block diagonal): `critical` searches each on its
+/// own and says so; `mu*` is the lesser closed form `K_tt / |K_nt|` (1 and 2), in the summary
+/// and in the JSON (`info.groups`), and the other body grazes in the witness.
+#[test]
+fn critical_searches_uncoupled_bodies_apart() {
+    let dir = dir_with(&[(
+        "pair.toml",
+        "dim = 2\nmu = 0.5\n[stiffness]\nrows = [[3.0, -1.0, 0.0, 0.0], [-1.0, 2.0, 0.0, 0.0], \
+         [0.0, 0.0, 2.0, 1.0], [0.0, 0.0, 1.0, 1.0]]\n",
+    )]);
+    let file = path_in(&dir, "pair.toml");
+    let out = wedged(&["critical", &file]);
+    assert_success(&out);
+    let text = stdout(&out);
+    assert!(
+        text.contains("mu* = 1 ") || text.contains("mu* = 1.0"),
+        "{text}"
+    );
+    assert!(
+        text.contains("fall into 2 groups that K does not couple"),
+        "{text}"
+    );
+    let report = json_stdout(&wedged(&["critical", &file, "--json", "-", "--certify"]));
+    assert_eq!(report["info"]["groups"], 2);
+    assert_eq!(report["certified"], true);
+    let mu = report["mu_critical"].as_f64().unwrap();
+    assert!((mu - 1.0).abs() < 1e-8, "{mu}");
+    assert_eq!(report["witness"]["pattern"][0], "grazing");
+    assert_eq!(report["witness"]["pattern"][1], "contact");
+}

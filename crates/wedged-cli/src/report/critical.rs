@@ -585,6 +585,13 @@ fn info_lines(out: &mut String, problem: &Problem, result: &Critical) {
         seconds_text(info.seconds)
     );
     let mut search = Vec::new();
+    if info.groups > 1 {
+        search.push(format!(
+            "the contact nodes fall into {} groups that K does not couple, each searched on \
+             its own (mu* is the least of theirs; the counts below are their sums)",
+            info.groups
+        ));
+    }
     if let Some(mu) = info.mu_enumerated {
         search.push(format!(
             "{} enumerated at mu = {}",
@@ -597,9 +604,13 @@ fn info_lines(out: &mut String, problem: &Problem, result: &Critical) {
         ));
     }
     if info.nodes_visited > 0 {
+        let sets = if info.groups > 1 {
+            "each group's contact sets".to_string()
+        } else {
+            format!("the 2^{m} contact sets")
+        };
         search.push(format!(
-            "branch and bound over the 2^{m} contact sets: {} visited, {} pruned (certified \
-             infeasible)",
+            "branch and bound over {sets}: {} visited, {} pruned (certified infeasible)",
             plural(info.nodes_visited as usize, "node", "nodes"),
             plural(info.pruned_infeasible as usize, "subtree", "subtrees")
         ));
@@ -620,7 +631,8 @@ fn info_lines(out: &mut String, problem: &Problem, result: &Critical) {
         } else if info.improvement_steps > 0 {
             // No dive: the run started from the caller's contact set (`--start`).
             search.push(format!(
-                "the first leaf from the start's contact set (no dive), improved in {} of                  local search over contact sets",
+                "the first leaf from the start's contact set (no dive), improved in {} of \
+                 local search over contact sets",
                 plural(info.improvement_steps as usize, "step", "steps")
             ));
         }
@@ -636,8 +648,13 @@ fn info_lines(out: &mut String, problem: &Problem, result: &Critical) {
             ));
         }
     } else if info.method == "faces" {
+        let sets = if info.groups > 1 {
+            "all of each group's contact sets".to_string()
+        } else {
+            format!("all 2^{m} contact sets")
+        };
         search.push(format!(
-            "all 2^{m} contact sets, {} certified infeasible",
+            "{sets}, {} certified infeasible",
             info.pruned_infeasible
         ));
     }

@@ -51,6 +51,7 @@ mod edge;
 mod enumerate;
 mod exact;
 mod faces;
+mod groups;
 mod improve;
 mod newton;
 mod polish;
@@ -268,6 +269,9 @@ pub struct CriticalInfo {
     pub retries: u64,
     /// Programs the solver left undecided after its retry.
     pub uncertain: u64,
+    /// Groups of contact nodes that `K` does not couple, each searched on its own (`mu*` the
+    /// least of theirs; `critical/groups.rs`); 0 when the nodes are one group.
+    pub groups: u64,
     /// Wall-clock seconds.
     pub seconds: f64,
 }
@@ -372,6 +376,12 @@ pub fn critical_with_control(
         let why = crate::patterns::floating_certify_refusal(problem.dim(), settings.certify);
         if let Some(why) = why {
             return Err(EnumerateError::InvalidSettings(why));
+        }
+    }
+    if settings.shard.is_none() && settings.method != CriticalMethod::Enumerate {
+        let groups = groups::uncoupled_groups(problem);
+        if groups.len() > 1 {
+            return groups::by_groups(problem, settings, &groups, progress, cancel);
         }
     }
     let start = Instant::now();

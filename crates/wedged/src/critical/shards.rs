@@ -97,7 +97,7 @@ pub fn merge_shards(parts: Vec<Critical>) -> Result<Critical, String> {
 }
 
 /// Adds a shard's counters to `sum` (seconds: the longest).
-fn add_info(sum: &mut CriticalInfo, part: &CriticalInfo) {
+pub(super) fn add_info(sum: &mut CriticalInfo, part: &CriticalInfo) {
     // No `..`: a new counter must be merged here too.
     let CriticalInfo {
         method: _,
@@ -120,6 +120,7 @@ fn add_info(sum: &mut CriticalInfo, part: &CriticalInfo) {
         socps,
         retries,
         uncertain,
+        groups: _,
         seconds,
     } = *part;
     sum.nodes_visited += nodes_visited;

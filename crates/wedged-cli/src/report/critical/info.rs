@@ -27,6 +27,7 @@ pub struct CriticalInfoJson {
     pub socps: u64,
     pub retries: u64,
     pub uncertain: u64,
+    pub groups: u64,
     pub seconds: f64,
     /// The process's peak resident memory ([`crate::report::json::peak_rss_bytes`]).
     pub peak_rss_bytes: Option<u64>,
@@ -56,6 +57,7 @@ impl CriticalInfoJson {
             socps,
             retries,
             uncertain,
+            groups,
             seconds,
         } = *info;
         CriticalInfoJson {
@@ -79,6 +81,7 @@ impl CriticalInfoJson {
             socps,
             retries,
             uncertain,
+            groups,
             seconds,
             peak_rss_bytes: crate::report::json::peak_rss_bytes(),
         }
