@@ -48,6 +48,7 @@ pub(crate) mod conic;
 pub mod critical;
 pub mod examples;
 pub mod fe;
+pub(crate) mod groups;
 pub(crate) mod linalg;
 pub mod patterns;
 pub mod problem;

@@ -224,3 +224,129 @@ fn a_stopped_grouped_run_is_incomplete() {
     ));
     assert_eq!(c.mu_critical, None);
 }
+
+/// The maximal patterns of two or three random bodies side by side, nodes shuffled (2D by
+/// `pattern-search` and `bnb`, 3D by `bnb`): the products of the bodies' own, the same set as
+/// one search over the whole problem finds (a run as one shard of one, which is not split into
+/// groups), streamed or not; each product's witness checked here on the whole problem.
+#[test]
+fn uncoupled_bodies_give_the_products_of_their_pieces() {
+    use std::collections::BTreeSet;
+    use wedged::{enumerate_patterns, enumerate_patterns_streaming, PatternMethod};
+    use wedged::{PatternSettings, Shard};
+    let mut products = 0;
+    for (dim, sizes, method) in [
+        (2, vec![2, 3], PatternMethod::Search),
+        (2, vec![3, 3], PatternMethod::Search),
+        (2, vec![2, 1, 2], PatternMethod::Bnb),
+        (3, vec![2, 2], PatternMethod::Bnb),
+    ] {
+        for seed in 0..5u64 {
+            let mu = 3.0;
+            let parts: Vec<Problem> = sizes
+                .iter()
+                .enumerate()
+                .map(|(b, &m)| random_spd_problem_dim(dim, m, mu, 300 * seed + b as u64))
+                .collect();
+            let m: usize = sizes.iter().sum();
+            let order = shuffle(m, seed + 11);
+            let whole = uncoupled(&parts, &order, mu);
+            let what = format!("dim {dim}, sizes {sizes:?}, {method:?}, seed {seed}");
+            let settings = PatternSettings {
+                method,
+                ..PatternSettings::default()
+            };
+            let grouped = enumerate_patterns(&whole, &settings).unwrap();
+            assert_eq!(grouped.info.groups, sizes.len() as u64, "{what}");
+            let one_search = enumerate_patterns(
+                &whole,
+                &PatternSettings {
+                    shard: Some(Shard::new(1, 1).unwrap()),
+                    ..settings.clone()
+                },
+            )
+            .unwrap();
+            assert_eq!(one_search.info.groups, 0, "{what}");
+            let set = |p: &wedged::Patterns| -> BTreeSet<Vec<ContactPattern>> {
+                p.patterns.iter().map(|q| q.pattern.clone()).collect()
+            };
+            assert_eq!(grouped.outcome, one_search.outcome, "{what}");
+            assert_eq!(set(&grouped), set(&one_search), "{what}");
+            // The products of the bodies' own patterns, by hand: old node `order[a]`.
+            let own: Vec<Vec<Vec<ContactPattern>>> = parts
+                .iter()
+                .map(|p| {
+                    let e = enumerate_patterns(p, &settings).unwrap();
+                    let mut list: Vec<_> = e.patterns.into_iter().map(|q| q.pattern).collect();
+                    if list.is_empty() {
+                        list.push(vec![ContactPattern::Grazing; p.nodes()]);
+                    }
+                    list
+                })
+                .collect();
+            let mut by_hand = BTreeSet::new();
+            let count: usize = own.iter().map(Vec::len).product();
+            for mut k in 0..count {
+                let mut old = Vec::new();
+                for list in &own {
+                    old.extend(list[k % list.len()].iter().copied());
+                    k /= list.len();
+                }
+                if old.iter().any(|&c| c != ContactPattern::Grazing) {
+                    by_hand.insert(order.iter().map(|&o| old[o]).collect::<Vec<_>>());
+                }
+            }
+            assert_eq!(set(&grouped), by_hand, "{what}");
+            for q in &grouped.patterns {
+                wedged::solution::check_solution(&whole, mu, &q.u, &q.r).unwrap();
+                let total: f64 = (0..m).map(|a| q.r[dim * a]).sum();
+                assert!((total - 1.0).abs() < 1e-9, "{what}");
+            }
+            let streamed = std::sync::Mutex::new(BTreeSet::new());
+            let sink = |p: wedged::Pattern| {
+                streamed.lock().unwrap().insert(p.pattern);
+            };
+            let s = enumerate_patterns_streaming(
+                &whole,
+                &settings,
+                &|_| {},
+                &AtomicBool::new(false),
+                &sink,
+            )
+            .unwrap();
+            assert_eq!(s.info.streamed as usize, by_hand.len(), "{what}");
+            assert_eq!(streamed.into_inner().unwrap(), by_hand, "{what}");
+            products += by_hand.len();
+        }
+    }
+    assert!(products >= 60, "{products} products");
+}
+
+/// `--certify` of a grouped enumeration: every group's search certified exactly.
+#[test]
+fn a_grouped_enumeration_is_certified() {
+    use wedged::{enumerate_patterns, PatternMethod, PatternSettings};
+    let mu = 4.0;
+    let parts = [
+        random_spd_problem_dim(2, 3, mu, 5),
+        random_spd_problem_dim(2, 2, mu, 6),
+    ];
+    let whole = uncoupled(&parts, &shuffle(5, 1), mu);
+    for method in [PatternMethod::Search, PatternMethod::Bnb] {
+        let e = enumerate_patterns(
+            &whole,
+            &PatternSettings {
+                method,
+                certify: true,
+                ..PatternSettings::default()
+            },
+        )
+        .unwrap();
+        let c = e.certificate.clone().expect("asked");
+        assert!(c.certified, "{method:?}: {:?}", c.failures);
+        assert!(
+            c.witnesses_checked > 0 && e.patterns.len() > 1,
+            "{method:?}: {e:?}"
+        );
+    }
+}

@@ -144,8 +144,16 @@ fn search_is_invariant_under_renumbering_flips_and_node_scales() {
 /// `patterns`; checked against the kept run (`enumerate_patterns`, which filters the maximal
 /// ones at the end as well).
 fn pattern_search(problem: &Problem) -> Patterns {
+    pattern_search_in(problem, None)
+}
+
+/// [`pattern_search`] as one shard of one (`Some`): one search over the whole problem even
+/// where its nodes fall into uncoupled groups (which a plain run searches apart,
+/// `patterns/groups.rs`), so that the block problems below test the search's own maximality.
+fn pattern_search_in(problem: &Problem, shard: Option<wedged::Shard>) -> Patterns {
     let settings = PatternSettings {
         method: PatternMethod::Search,
+        shard,
         ..PatternSettings::default()
     };
     let streamed = std::sync::Mutex::new(Vec::new());
@@ -222,7 +230,9 @@ fn pattern_search_tests_each_leaf_for_maximality_on_block_problems() {
         let mu = [1.0, 1.5, 2.0, 3.0][(trial % 4) as usize];
         let p = wedged::examples::block_spd_problem(m, b, mu, 100 + trial);
         let rays = run(&p, Method::PrunedDd);
-        let found = pattern_search(&p);
+        let found = pattern_search_in(&p, Some(wedged::Shard::new(1, 1).unwrap()));
+        // Searched apart, the groups give the same pieces.
+        assert_eq!(patterns_of(&found), patterns_of(&pattern_search(&p)));
         let what = format!("trial {trial} (m = {m}, blocks of {b}, mu = {mu})");
         assert_eq!(cone_patterns(&rays), patterns_of(&found), "{what}");
         below += found.info.realised - found.info.streamed;
@@ -295,10 +305,12 @@ fn pattern_search_is_invariant_under_renumbering_flips_and_node_scales() {
 /// with a refutation behind every prune of the search.
 #[test]
 fn certified_pattern_search_agrees_with_the_plain_run() {
-    let certified = |p: &Problem| {
+    // Block problems as one shard of one: one search, not one per uncoupled group.
+    let certified = |p: &Problem, shard: Option<wedged::Shard>| {
         let settings = PatternSettings {
             method: PatternMethod::Search,
             certify: true,
+            shard,
             ..PatternSettings::default()
         };
         let c = enumerate_patterns(p, &settings)
@@ -317,7 +329,7 @@ fn certified_pattern_search_agrees_with_the_plain_run() {
         let mu = [0.5, 1.0, 1.5, 2.0, 3.0][trial % 5] * rng.gen_range(0.8..1.25);
         let p = Problem::new(2, random_spd(&mut rng, 2 * m), mu).unwrap();
         let plain = pattern_search(&p);
-        let c = certified(&p);
+        let c = certified(&p, None);
         let what = format!("trial {trial} (m = {m}, mu = {mu})");
         assert_eq!(plain.outcome, c.outcome, "{what}");
         assert_eq!(patterns_of(&plain), patterns_of(&c), "{what}");
@@ -338,9 +350,10 @@ fn certified_pattern_search_agrees_with_the_plain_run() {
         let mu = [1.0, 1.5, 2.0, 3.0][(trial % 4) as usize];
         let p = wedged::examples::block_spd_problem(m, b, mu, 100 + trial);
         let what = format!("block trial {trial} (m = {m}, blocks of {b}, mu = {mu})");
+        let whole = Some(wedged::Shard::new(1, 1).unwrap());
         assert_eq!(
             patterns_of(&pattern_search(&p)),
-            patterns_of(&certified(&p)),
+            patterns_of(&certified(&p, whole)),
             "{what}"
         );
     }

@@ -297,6 +297,7 @@ pub struct PatternInfoJson {
     pub lp_fallbacks: u64,
     pub mirrored: u64,
     pub images: u64,
+    pub groups: u64,
     pub seconds: f64,
     /// The process's peak resident memory (see [`peak_rss_bytes`]).
     pub peak_rss_bytes: Option<u64>,
@@ -326,6 +327,7 @@ impl PatternInfoJson {
             lp_fallbacks,
             mirrored,
             images,
+            groups,
             seconds,
         } = *info;
         PatternInfoJson {
@@ -351,6 +353,7 @@ impl PatternInfoJson {
             lp_fallbacks,
             mirrored,
             images,
+            groups,
             seconds,
             peak_rss_bytes: peak_rss_bytes(),
         }

@@ -17,72 +17,19 @@
 //! 515k search nodes and reached only 1.3e-7 of the bracket; grouped, 0.23 s (one copy: 0.11 s)
 //! (`BENCHMARKS.md`).
 //!
-//! The groups are found from exact zeros only (a coupling of 1e-300 is a coupling), so the
-//! answer never rests on a judgement of what is small. A floating body is one group (its rigid
-//! modes couple nodes that `K` may not), and so is every problem for the `enumerate` method (its
-//! per-pattern thresholds are the whole problem's patterns) and for a shard (every process must
-//! split the same tree).
+//! The groups ([`crate::groups::uncoupled_groups`]) are found from exact zeros only. Every
+//! problem is one group for the `enumerate` method (its per-pattern thresholds are the whole
+//! problem's patterns) and for a shard (every process must split the same tree).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-use nalgebra::DMatrix;
-
 use super::certify::CriticalCertificate;
 use super::{Critical, CriticalInfo, CriticalProgress, CriticalSettings, CriticalStatus};
+use crate::groups::restricted;
 use crate::problem::Problem;
 use crate::run::{EnumerateError, Stop};
 use crate::solution::{check_solution, ContactPattern, NodeStatus};
-
-/// The groups of nodes that `K` couples: the connected components of the graph with an edge
-/// between two nodes whose block of `K` has a nonzero entry, each group in increasing order,
-/// the groups by their first node. One group for a floating body.
-pub(crate) fn uncoupled_groups(problem: &Problem) -> Vec<Vec<usize>> {
-    let (d, m) = (problem.dim(), problem.nodes());
-    if problem.is_floating() || m == 0 {
-        return vec![(0..m).collect()];
-    }
-    let k = problem.stiffness();
-    let mut root: Vec<usize> = (0..m).collect();
-    fn find(root: &mut [usize], mut i: usize) -> usize {
-        while root[i] != i {
-            root[i] = root[root[i]];
-            i = root[i];
-        }
-        i
-    }
-    for i in 0..m {
-        for j in i + 1..m {
-            let coupled = (0..d).any(|a| (0..d).any(|b| k[(d * i + a, d * j + b)] != 0.0));
-            if coupled {
-                let (a, b) = (find(&mut root, i), find(&mut root, j));
-                root[a.max(b)] = a.min(b);
-            }
-        }
-    }
-    let mut groups: Vec<Vec<usize>> = Vec::new();
-    let mut index = vec![usize::MAX; m];
-    for i in 0..m {
-        let r = find(&mut root, i);
-        if index[r] == usize::MAX {
-            index[r] = groups.len();
-            groups.push(Vec::new());
-        }
-        groups[index[r]].push(i);
-    }
-    groups
-}
-
-/// The problem of the nodes `nodes` alone (their block of `K`, the same `mu`).
-fn restricted(problem: &Problem, nodes: &[usize]) -> Result<Problem, EnumerateError> {
-    let d = problem.dim();
-    let n = d * nodes.len();
-    let at = |a: usize| nodes[a / d] * d + a % d;
-    let k = problem.stiffness();
-    let block = DMatrix::from_fn(n, n, |i, j| k[(at(i), at(j))]);
-    Problem::new(d, block, problem.mu())
-        .map_err(|e| EnumerateError::Internal(format!("a group of uncoupled contact nodes: {e}")))
-}
 
 /// [`super::critical_with_control`] on each group of `groups` (more than one), combined (see
 /// the module docs). A stop (time limit, Ctrl-C) leaves the groups not yet searched without a

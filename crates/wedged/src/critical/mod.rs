@@ -379,7 +379,7 @@ pub fn critical_with_control(
         }
     }
     if settings.shard.is_none() && settings.method != CriticalMethod::Enumerate {
-        let groups = groups::uncoupled_groups(problem);
+        let groups = crate::groups::uncoupled_groups(problem);
         if groups.len() > 1 {
             return groups::by_groups(problem, settings, &groups, progress, cancel);
         }

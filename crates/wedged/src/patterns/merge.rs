@@ -150,7 +150,7 @@ pub fn merge_shards(parts: Vec<Patterns>) -> Result<Patterns, String> {
 }
 
 /// Adds a shard's counters to `sum` (seconds: the longest).
-fn add_info(sum: &mut PatternInfo, part: &PatternInfo) {
+pub(super) fn add_info(sum: &mut PatternInfo, part: &PatternInfo) {
     // No `..`: a new counter must be merged here too.
     let PatternInfo {
         nodes_visited,
@@ -173,6 +173,7 @@ fn add_info(sum: &mut PatternInfo, part: &PatternInfo) {
         lp_fallbacks,
         mirrored,
         images,
+        groups: _,
         seconds,
     } = *part;
     sum.nodes_visited += nodes_visited;

@@ -26,6 +26,7 @@
 mod bnb;
 mod certify;
 mod faces;
+mod groups;
 mod leaf;
 pub(crate) use leaf::leaf_pattern;
 mod merge;
@@ -205,6 +206,9 @@ pub struct PatternInfo {
     /// skipped.
     pub mirrored: u64,
     pub images: u64,
+    /// Groups of contact nodes that `K` does not couple, each searched on its own, the pieces
+    /// their products (`patterns/groups.rs`); 0 when the nodes are one group.
+    pub groups: u64,
     /// Wall-clock seconds.
     pub seconds: f64,
 }
@@ -319,6 +323,12 @@ fn run(
              has none",
             settings.method.name()
         )));
+    }
+    if settings.shard.is_none() {
+        let groups = crate::groups::uncoupled_groups(problem);
+        if groups.len() > 1 {
+            return groups::by_groups(problem, settings, &groups, progress, cancel, sink);
+        }
     }
     let start = Instant::now();
     // The search runs in per-node units that bring K's diagonal near 1 (exactly equivalent, see

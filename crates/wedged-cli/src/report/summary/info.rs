@@ -137,13 +137,23 @@ pub(super) fn pattern_info(
 ) {
     let m = problem.nodes();
     let info = &result.info;
+    let maximal = result.patterns.len() + info.streamed as usize;
     let _ = writeln!(
         out,
-        "info: {}{}; {} realised, {} of them maximal",
+        "info: {}{}; {}",
         seconds_text(info.seconds),
         crate::report::json::peak_memory_text(),
-        plural(info.realised as usize, "pattern", "patterns"),
-        result.patterns.len() + info.streamed as usize
+        if info.groups > 1 {
+            format!(
+                "{} realised in the groups, {maximal} maximal (their products)",
+                plural(info.realised as usize, "pattern", "patterns"),
+            )
+        } else {
+            format!(
+                "{} realised, {maximal} of them maximal",
+                plural(info.realised as usize, "pattern", "patterns"),
+            )
+        }
     );
     let search = match choice {
         Choice::Patterns(s) if s.method == PatternMethod::Bnb => {
@@ -221,6 +231,15 @@ pub(super) fn pattern_info(
             info.candidates,
             power_of_two(m, 1)
         ),
+    };
+    let search = if info.groups > 1 {
+        format!(
+            "the contact nodes fall into {} groups that K does not couple, each searched on its \
+             own, the pieces the products of theirs (the counts below are their sums); {search}",
+            info.groups
+        )
+    } else {
+        search
     };
     wrapped(out, 2, 4, &search);
     wrapped(
