@@ -177,6 +177,7 @@ fn check_report(report: &Value, k: &DMatrix<f64>) {
             "lp_fallbacks",
             "mirrored",
             "images",
+            "groups",
             "seconds",
             "peak_rss_bytes",
         ]
@@ -1047,12 +1048,13 @@ fn check_critical_keys(report: &Value) {
         "socps",
         "retries",
         "uncertain",
+        "groups",
         "seconds",
         "peak_rss_bytes",
     ] {
         assert!(info.contains_key(key), "missing info.{key}: {info:?}");
     }
-    assert_eq!(info.len(), 22, "{info:?}");
+    assert_eq!(info.len(), 23, "{info:?}");
 }
 
 /// One node with `K_nn = 2, K_nt = 1, K_tt = 1`: `mu* = K_tt / |K_nt| = 1`.

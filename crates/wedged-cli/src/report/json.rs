@@ -759,8 +759,8 @@ mod tests {
         assert_eq!(info["method"], "pyramid");
         assert_eq!(info["pyramid_faces"], 12);
         assert_eq!(info["socps"], 7);
-        // method, pyramid_faces, the 21 fields of PatternInfo and peak_rss_bytes.
-        assert_eq!(info.len(), 24, "{info:?}");
+        // method, pyramid_faces, the 22 fields of PatternInfo and peak_rss_bytes.
+        assert_eq!(info.len(), 25, "{info:?}");
     }
 
     #[test]
