@@ -55,7 +55,7 @@ use crate::shard::{self, Explored, Shard, Walk};
 
 mod tuning;
 use tuning::{
-    bars, DIVE_NODES_PER_NODE, PASS_SETTLED, RESTART, RETIGHTEN_DEPTH, ROUNDED,
+    bars, DIVE_NODES_PER_NODE, DIVE_SETTLED, PASS_SETTLED, RESTART, RETIGHTEN_DEPTH, ROUNDED,
     SETTLED_TIGHTEN_DEPTH, SETTLE_DEPTH, SETTLE_FROM, SETTLE_PARTS, STALE, TIGHTEN_DEPTH,
 };
 
@@ -402,7 +402,7 @@ impl shard::Tree for Search<'_, '_, '_> {
                         (false, _) => lp::Settle::Once,
                         (true, true) => lp::Settle::InParts {
                             parts: 1,
-                            until: lp::SETTLED,
+                            until: DIVE_SETTLED,
                         },
                         (true, false) => lp::Settle::InParts {
                             parts: SETTLE_PARTS,

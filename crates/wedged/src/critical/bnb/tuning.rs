@@ -69,6 +69,17 @@ pub(super) const SETTLE_PARTS: usize = 3;
 /// nodes against 4), m = 160 0.98 (`-n 2`); one run each, m = 200 105 against 102 to 104 s.)
 pub(super) const PASS_SETTLED: f64 = 0.01;
 
+/// The dive's root (whose point is rounded to the first leaf, [`ROUNDED`]) stops settling when
+/// no bound interval shrinks by more than this share of its width in a round (a pass's root:
+/// [`PASS_SETTLED`]; other settled tightenings: [`crate::conic::node_lp::SETTLED`], 0.05). The
+/// rounded leaf only needs the root's point near its settled one; the rounds below 10% cost a
+/// third of the dive. (Measured on the 2D plug, `farm-bench --vs` on one build, 0.1 against
+/// 0.05, paired wall medians, 2026-11-29: m = 50 0.94 (`-n 7`), m = 100 0.95 (`-n 5`), m = 140
+/// 0.91 (4.02 against 4.48 s, `-n 3`); one run each, m = 200 32.6 against 33.1 s; 0.2: m = 140
+/// 19.4 s (the rounded leaf's improvement stopped above `mu*`); the 3D V-groove at m = 40 1.01;
+/// the same `mu*` in all.)
+pub(super) const DIVE_SETTLED: f64 = 0.1;
+
 /// The dive's first leaf in 2D is the root's relaxed solution rounded: the contact set of the
 /// nodes pressed by more than this fraction of the most pressed, its leaf by [`super::leaf_of`]
 /// (a few linear programs), then improved ([`super::improve`]). On the 2D plug the dive finds
