@@ -233,6 +233,10 @@ fn finer_points_start_from_the_coarser_answer_of_the_same_body() {
     // Grid order: Poisson's ratio slowest; the first mesh of each body has nothing to start from.
     assert_eq!(started, [false, true, true, false, true, true], "{said}");
     assert!(!said_scratch.contains("started from"), "{said_scratch}");
+    // A certified search uses no start, and the study says none.
+    let (certified, said_certified) = run("certified", &["--certify"]);
+    assert!(!said_certified.contains("started from"), "{said_certified}");
+    assert_eq!(column(&certified, "m"), column(&chained, "m"));
     assert_eq!(column(&chained, "m"), ["8", "12", "16", "8", "12", "16"]);
     for key in ["lower", "upper"] {
         for (a, b) in column(&chained, key).iter().zip(column(&scratch, key)) {

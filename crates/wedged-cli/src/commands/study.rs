@@ -81,7 +81,11 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
     let mut vtus: Vec<PathBuf> = Vec::new();
     // The answers computed in this run, by grid position: a finer point's start ([`chained`]).
     let mut answers: Vec<Option<Earlier>> = vec![None; total];
-    let chain = !args.no_chain && parameters.iter().any(|p| study::refines(&p.key));
+    // Only where the search uses a start: `bnb`, not certified (`critical --start`).
+    let chain = !args.no_chain
+        && !settings.certify
+        && settings.method == CriticalMethod::Bnb
+        && parameters.iter().any(|p| study::refines(&p.key));
     let mut interrupted = false;
     let mut reused = 0;
     write_stdout(&format!(
