@@ -7,10 +7,13 @@
 //! answer rests on a judgement of what is small. A floating body is one group: its rigid modes
 //! couple nodes that `K` may not.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
 use nalgebra::DMatrix;
 
 use crate::problem::Problem;
-use crate::run::EnumerateError;
+use crate::run::{EnumerateError, Limits, Stop};
 
 /// The groups of nodes that `K` couples: the connected components of the graph with an edge
 /// between two nodes whose block of `K` has a nonzero entry, each group in increasing order,
@@ -60,4 +63,37 @@ pub(crate) fn restricted(problem: &Problem, nodes: &[usize]) -> Result<Problem, 
     let block = DMatrix::from_fn(n, n, |i, j| k[(at(i), at(j))]);
     Problem::new(d, block, problem.mu())
         .map_err(|e| EnumerateError::Internal(format!("a group of uncoupled contact nodes: {e}")))
+}
+
+/// A group's contact set (one entry per node of `group`) on the whole problem's `m` nodes,
+/// the other nodes not in contact.
+pub(crate) fn spread_contact(group: &[usize], m: usize, contact: &[bool]) -> Vec<bool> {
+    let mut whole = vec![false; m];
+    for (a, &i) in group.iter().enumerate() {
+        whole[i] = contact[a];
+    }
+    whole
+}
+
+/// Before the next group's search: the time it has left of `limits` since `clock`, or why the
+/// run stops first (the cancel flag, or no time left).
+pub(crate) fn time_for_next(
+    limits: &Limits,
+    clock: &Instant,
+    cancel: &AtomicBool,
+) -> Result<Option<Duration>, Stop> {
+    if cancel.load(Ordering::Relaxed) {
+        return Err(Stop::Interrupted);
+    }
+    match limits.time_limit {
+        Some(limit) => {
+            let left = limit.saturating_sub(clock.elapsed());
+            if left.is_zero() {
+                Err(Stop::TimeLimit(limit))
+            } else {
+                Ok(Some(left))
+            }
+        }
+        None => Ok(None),
+    }
 }

@@ -21,12 +21,12 @@
 //! problem is one group for the `enumerate` method (its per-pattern thresholds are the whole
 //! problem's patterns) and for a shard (every process must split the same tree).
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use super::certify::CriticalCertificate;
 use super::{Critical, CriticalInfo, CriticalProgress, CriticalSettings, CriticalStatus};
-use crate::groups::restricted;
+use crate::groups::{restricted, spread_contact, time_for_next};
 use crate::problem::Problem;
 use crate::run::{EnumerateError, Stop};
 use crate::solution::{check_solution, ContactPattern, NodeStatus};
@@ -47,19 +47,18 @@ pub(super) fn by_groups(
     let mut parts: Vec<Option<Critical>> = Vec::with_capacity(groups.len());
     let mut stopped: Option<Stop> = None;
     for nodes in groups {
-        let left = settings
-            .limits
-            .time_limit
-            .map(|limit| limit.saturating_sub(clock.elapsed()));
-        if stopped.is_some() || cancel.load(Ordering::Relaxed) || left.is_some_and(|l| l.is_zero())
-        {
-            stopped = stopped.or(Some(match left {
-                Some(l) if l.is_zero() => Stop::TimeLimit(settings.limits.time_limit.unwrap_or(l)),
-                _ => Stop::Interrupted,
-            }));
-            parts.push(None);
-            continue;
-        }
+        let left = match time_for_next(&settings.limits, &clock, cancel) {
+            Ok(left) if stopped.is_none() => left,
+            Ok(_) => {
+                parts.push(None);
+                continue;
+            }
+            Err(stop) => {
+                stopped = stopped.or(Some(stop));
+                parts.push(None);
+                continue;
+            }
+        };
         let sub = restricted(problem, nodes)?;
         let mut own = settings.clone();
         own.limits.time_limit = left;
@@ -156,16 +155,10 @@ pub(super) fn by_groups(
     for (g, part) in parts.iter().enumerate() {
         let Some(part) = part else { continue };
         super::shards::add_info(&mut info, &part.info);
-        for u in &part.undecided {
-            let mut contact = vec![false; m];
-            for (a, &i) in groups[g].iter().enumerate() {
-                contact[i] = u.contact[a];
-            }
-            undecided.push(crate::patterns::Undecided {
-                contact,
-                reason: u.reason.clone(),
-            });
-        }
+        undecided.extend(part.undecided.iter().map(|u| crate::patterns::Undecided {
+            contact: spread_contact(&groups[g], m, &u.contact),
+            reason: u.reason.clone(),
+        }));
         if let Some(c) = &part.certificate {
             let sum = certificate.get_or_insert_with(|| CriticalCertificate {
                 certified: true,

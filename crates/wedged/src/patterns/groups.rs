@@ -19,12 +19,12 @@
 //! Not for a shard (every process must split the same tree). With `--certify` each group's
 //! search is certified exactly; the products follow from the exact zeros between the groups.
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use super::certify::PatternCertificate;
 use super::{Pattern, PatternInfo, PatternSettings, PatternSink, Patterns, Undecided};
-use crate::groups::restricted;
+use crate::groups::{restricted, spread_contact, time_for_next};
 use crate::problem::Problem;
 use crate::rays::Progress;
 use crate::run::{EnumerateError, Outcome, Stop};
@@ -48,20 +48,13 @@ pub(super) fn by_groups(
     let mut parts: Vec<Patterns> = Vec::with_capacity(groups.len());
     let mut stop: Option<Stop> = None;
     for nodes in groups {
-        let left = settings
-            .limits
-            .time_limit
-            .map(|limit| limit.saturating_sub(clock.elapsed()));
-        if cancel.load(Ordering::Relaxed) {
-            stop = stop.or(Some(Stop::Interrupted));
-        } else if let (Some(limit), Some(l)) = (settings.limits.time_limit, left) {
-            if l.is_zero() {
-                stop = stop.or(Some(Stop::TimeLimit(limit)));
+        let left = match time_for_next(&settings.limits, &clock, cancel) {
+            Ok(left) => left,
+            Err(s) => {
+                stop = stop.or(Some(s));
+                break;
             }
-        }
-        if stop.is_some() {
-            break;
-        }
+        };
         let sub = restricted(problem, nodes)?;
         let mut own = settings.clone();
         own.limits.time_limit = left;
@@ -80,16 +73,10 @@ pub(super) fn by_groups(
     let mut certificate: Option<PatternCertificate> = None;
     for (g, part) in parts.iter().enumerate() {
         super::merge::add_info(&mut info, &part.info);
-        for u in &part.undecided {
-            let mut contact = vec![false; m];
-            for (a, &i) in groups[g].iter().enumerate() {
-                contact[i] = u.contact[a];
-            }
-            undecided.push(Undecided {
-                contact,
-                reason: u.reason.clone(),
-            });
-        }
+        undecided.extend(part.undecided.iter().map(|u| Undecided {
+            contact: spread_contact(&groups[g], m, &u.contact),
+            reason: u.reason.clone(),
+        }));
         if let Some(c) = &part.certificate {
             let sum = certificate.get_or_insert_with(|| PatternCertificate {
                 certified: true,
