@@ -156,12 +156,8 @@ pub(super) fn by_groups(
     patterns.sort_by(|a, b| a.pattern.cmp(&b.pattern));
     info.streamed = streamed;
     info.seconds = clock.elapsed().as_secs_f64();
-    let outcome = match stop {
-        Some(s) => Outcome::Incomplete(s),
-        None if !undecided.is_empty() => Outcome::Incomplete(Stop::Undecided),
-        None if patterns.is_empty() && streamed == 0 => Outcome::NotWedged,
-        None => Outcome::Wedged,
-    };
+    let found = !patterns.is_empty() || streamed > 0;
+    let outcome = super::outcome_of(stop, !undecided.is_empty(), found);
     Ok(Patterns {
         outcome,
         patterns,

@@ -133,12 +133,7 @@ pub fn merge_shards(parts: Vec<Patterns>) -> Result<Patterns, String> {
         .filter_map(|(p, k)| k.then_some(p))
         .collect();
     patterns.sort_by(|a, b| a.pattern.cmp(&b.pattern));
-    let outcome = match stopped {
-        Some(stop) => Outcome::Incomplete(stop),
-        None if !undecided.is_empty() => Outcome::Incomplete(Stop::Undecided),
-        None if patterns.is_empty() => Outcome::NotWedged,
-        None => Outcome::Wedged,
-    };
+    let outcome = super::outcome_of(stopped, !undecided.is_empty(), !patterns.is_empty());
     Ok(Patterns {
         outcome,
         patterns,

@@ -243,6 +243,18 @@ pub(crate) struct Found {
     pub witnesses: HashMap<Vec<ContactPattern>, Support>,
 }
 
+/// A pattern run's outcome (one run, the shards' merge, the groups' products): incomplete when
+/// it stopped (`stop`) or left a contact set `undecided` (the patterns below it may be
+/// missing), else wedged when it `found` a pattern.
+pub(crate) fn outcome_of(stop: Option<Stop>, undecided: bool, found: bool) -> Outcome {
+    match stop {
+        Some(stop) => Outcome::Incomplete(stop),
+        None if undecided => Outcome::Incomplete(Stop::Undecided),
+        None if !found => Outcome::NotWedged,
+        None => Outcome::Wedged,
+    }
+}
+
 /// Enumerates the maximal realised sign patterns of a 2D or 3D problem.
 pub fn enumerate_patterns(
     problem: &Problem,
@@ -456,13 +468,8 @@ fn run(
     info.retries = Counters::get(&c.retries);
     info.uncertain = Counters::get(&c.uncertain);
     info.near_degenerate = Counters::get(&c.near_degenerate);
-    let outcome = match control.stopped() {
-        Some(stop) => Outcome::Incomplete(stop),
-        // The patterns below an undecided contact set may be missing.
-        None if !undecided.is_empty() => Outcome::Incomplete(Stop::Undecided),
-        None if patterns.is_empty() && info.streamed == 0 => Outcome::NotWedged,
-        None => Outcome::Wedged,
-    };
+    let found = !patterns.is_empty() || info.streamed > 0;
+    let outcome = outcome_of(control.stopped(), !undecided.is_empty(), found);
     let certificate = settings.certify.then(|| {
         let complete = !matches!(outcome, Outcome::Incomplete(_));
         certify::certify(&mut form, settings.method, &scaled, complete)
