@@ -1038,6 +1038,7 @@ fn check_critical_keys(report: &Value) {
         "improvement_steps",
         "simplex_solves",
         "simplex_fallbacks",
+        "simplex_relaxed",
         "dinkelbach_steps",
         "bisection_steps",
         "certificates",
@@ -1054,7 +1055,7 @@ fn check_critical_keys(report: &Value) {
     ] {
         assert!(info.contains_key(key), "missing info.{key}: {info:?}");
     }
-    assert_eq!(info.len(), 23, "{info:?}");
+    assert_eq!(info.len(), 24, "{info:?}");
 }
 
 /// One node with `K_nn = 2, K_nt = 1, K_tt = 1`: `mu* = K_tt / |K_nt| = 1`.

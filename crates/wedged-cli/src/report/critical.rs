@@ -646,6 +646,12 @@ fn info_lines(out: &mut String, problem: &Problem, result: &Critical) {
                 ),
                 info.simplex_fallbacks
             ));
+            if info.simplex_relaxed > 0 {
+                search.push(format!(
+                    "{} decided normalised by the sum where their pressed program was undecided",
+                    plural(info.simplex_relaxed as usize, "inner node", "inner nodes")
+                ));
+            }
         }
     } else if info.method == "faces" {
         let sets = if info.groups > 1 {

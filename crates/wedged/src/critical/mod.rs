@@ -249,6 +249,9 @@ pub struct CriticalInfo {
     pub simplex_solves: u64,
     /// Programs the simplex method could not decide, solved by Clarabel instead.
     pub simplex_fallbacks: u64,
+    /// Inner nodes whose pressed program the simplex method could not decide, decided
+    /// normalised by the sum instead (a relaxation; see `conic::node_lp::decide_inner`).
+    pub simplex_relaxed: u64,
     /// Dinkelbach steps (programs minimising the slack).
     pub dinkelbach_steps: u64,
     /// Bisection steps (faces).

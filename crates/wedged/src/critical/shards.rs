@@ -110,6 +110,7 @@ pub(super) fn add_info(sum: &mut CriticalInfo, part: &CriticalInfo) {
         improvement_steps,
         simplex_solves,
         simplex_fallbacks,
+        simplex_relaxed,
         dinkelbach_steps,
         bisection_steps,
         certificates,
@@ -132,6 +133,7 @@ pub(super) fn add_info(sum: &mut CriticalInfo, part: &CriticalInfo) {
     sum.improvement_steps += improvement_steps;
     sum.simplex_solves += simplex_solves;
     sum.simplex_fallbacks += simplex_fallbacks;
+    sum.simplex_relaxed += simplex_relaxed;
     sum.dinkelbach_steps += dinkelbach_steps;
     sum.bisection_steps += bisection_steps;
     sum.certificates += certificates;

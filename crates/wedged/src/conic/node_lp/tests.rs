@@ -1,0 +1,80 @@
+//! Tests of the search nodes' programs ([`super`]).
+
+use super::*;
+use crate::examples::random_spd_problem;
+
+/// An inner node's program decided normalised by the sum ([`decide_inner`] with its pressed
+/// program made to fail) prunes only where the pressed program (Clarabel's, an independent
+/// solver) has no solution either, and its point is a point of the node: `sum r_n = 1`,
+/// nothing on the separated nodes, the contact nodes' gaps closed, the pressures
+/// nonnegative. Unforced, it decides as [`decide`] does, and both agree with Clarabel.
+#[test]
+fn the_sum_relaxes_an_undecided_pressed_program_soundly() {
+    let (mut pruned, mut kept) = (0, 0);
+    for seed in 0..120u64 {
+        let m = 2 + (seed % 5) as usize;
+        let mu = [0.6, 1.2, 2.5][(seed % 3) as usize];
+        let problem = random_spd_problem(m, mu, 9100 + seed);
+        let form = Formulation::new(&problem);
+        let mut lcg = seed.wrapping_mul(6364136223846793005).wrapping_add(7);
+        for _ in 0..4 {
+            let classes: Vec<Class> = (0..m)
+                .map(|_| {
+                    lcg = lcg
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    [Class::Contact, Class::Separated, Class::Free][(lcg >> 33) as usize % 3]
+                })
+                .collect();
+            let contact: Vec<usize> = (0..m).filter(|&i| classes[i] == Class::Contact).collect();
+            if contact.is_empty() || !classes.contains(&Class::Free) {
+                continue;
+            }
+            let shape = Shape { mu, drive: None };
+            let norm = Norm::Pressed(&contact);
+            let reference = form.decide_cut(&classes, mu, norm, Goal::Feasible, &[]).0;
+            let counters = LpCounters::default();
+            let plain = decide(&form, &counters, &classes, shape, norm, None, None).0;
+            let inner = decide_inner(&form, &counters, &classes, shape, norm, None, None).0;
+            assert_eq!(counters.relaxed.load(Ordering::Relaxed), 0);
+            assert_eq!(counters.fallbacks.load(Ordering::Relaxed), 0);
+            for own in [&plain, &inner] {
+                match (own, &reference) {
+                    (Decision::No, Decision::No) | (Decision::Yes { .. }, Decision::Yes { .. }) => {
+                    }
+                    (a, b) => panic!("seed {seed} {classes:?}: {a:?} against {b:?}"),
+                }
+            }
+            PRESSED_FAILS.with(|f| f.set(true));
+            let relaxed = decide_inner(&form, &counters, &classes, shape, norm, None, None).0;
+            PRESSED_FAILS.with(|f| f.set(false));
+            assert_eq!(counters.relaxed.load(Ordering::Relaxed), 1);
+            match relaxed {
+                Decision::No => {
+                    assert!(
+                        matches!(reference, Decision::No),
+                        "seed {seed}: pruned a solution"
+                    );
+                    pruned += 1;
+                }
+                Decision::Yes { r, .. } => {
+                    let d = form.dim;
+                    let total: f64 = (0..m).map(|i| r[d * i]).sum();
+                    assert!((total - 1.0).abs() < 1e-9, "seed {seed}: total {total}");
+                    for i in 0..m {
+                        assert!(r[d * i] >= -1e-9, "seed {seed}: pressure {}", r[d * i]);
+                        match classes[i] {
+                            Class::Separated => assert!(r[d * i].abs() < 1e-12),
+                            Class::Contact => assert!(form.gap_of(&r, i).abs() < 1e-8),
+                            _ => {}
+                        }
+                    }
+                    kept += 1;
+                }
+                Decision::Unsure(why) => panic!("seed {seed}: {why}"),
+            }
+        }
+    }
+    // Both ways, and some nodes the relaxation keeps that the pressed program prunes.
+    assert!(pruned > 20 && kept > 20, "{pruned} {kept}");
+}
