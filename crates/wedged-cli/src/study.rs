@@ -237,6 +237,24 @@ fn refine(table: &mut Table, factor: f64) -> Result<(), String> {
     }
 }
 
+/// The problem file's table with every division count of `[mesh.generate]` halved, rounded up
+/// (`critical`'s coarser start, [`crate::coarse`]); `None` where it has none above 1.
+pub fn coarsened(base: &Table) -> Option<Table> {
+    let mut table = base.clone();
+    let generate = generate_table(&mut table, REFINE).ok()?;
+    let mut any = false;
+    for key in DIVISIONS {
+        if let Some(Value::Integer(n)) = generate.get(key) {
+            if *n >= 2 {
+                let halved = (n + 1) / 2;
+                generate.insert(key.to_string(), Value::Integer(halved));
+                any = true;
+            }
+        }
+    }
+    any.then_some(table)
+}
+
 fn set_key(table: &mut Table, key: &str, v: f64) -> Result<(), String> {
     let mut parts = key.split('.').peekable();
     let mut here = table;
@@ -516,6 +534,27 @@ mod tests {
 
     fn table(text: &str) -> Table {
         text.parse().unwrap()
+    }
+
+    /// Every division count halved, rounded up (1 stays); nothing to coarsen without them.
+    #[test]
+    fn coarsened_halves_the_division_counts() {
+        let base =
+            table("mu = 2.0\n[mesh.generate]\nkind = \"plug2d\"\nnx = 25\nny = 40\nheight = 1.0\n");
+        let coarse = coarsened(&base).unwrap();
+        let generate = coarse["mesh"]["generate"].as_table().unwrap();
+        assert_eq!(generate["nx"].as_integer(), Some(13));
+        assert_eq!(generate["ny"].as_integer(), Some(20));
+        assert_eq!(generate["height"].as_float(), Some(1.0));
+        assert_eq!(coarse["mu"].as_float(), Some(2.0));
+        let one = table("[mesh.generate]\nnx = 1\nnz = 3\n");
+        assert_eq!(
+            coarsened(&one).unwrap()["mesh"]["generate"]["nz"].as_integer(),
+            Some(2)
+        );
+        assert!(coarsened(&table("[mesh.generate]\nnx = 1\nny = 1\n")).is_none());
+        assert!(coarsened(&table("[mesh]\nfile = \"a.msh\"\n")).is_none());
+        assert!(coarsened(&table("mu = 1.0\n")).is_none());
     }
 
     #[test]

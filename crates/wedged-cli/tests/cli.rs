@@ -1642,6 +1642,69 @@ fn critical_starts_from_a_coarser_meshs_answer() {
     );
 }
 
+/// `critical` on a generated 2D body of 80 contact nodes or more first solves the body with
+/// half the divisions, says so, and starts from its wedge (no dive); the bracket is that of
+/// `--no-chain`, which dives and says nothing of it; a body of fewer nodes is computed from
+/// scratch.
+#[test]
+fn critical_starts_a_fine_generated_mesh_from_half_its_divisions() {
+    let example = fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plug2d.toml"),
+    )
+    .unwrap();
+    let with_ny = |ny: usize| -> String {
+        example
+            .lines()
+            .map(|l| {
+                if l.starts_with("nx = ") {
+                    "nx = 3".to_string()
+                } else if l.starts_with("ny = ") {
+                    format!("ny = {ny}")
+                } else {
+                    l.to_string()
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    // Two contact nodes a division up the two walls: 80 and 78.
+    let dir = dir_with(&[("fine.toml", &with_ny(40)), ("small.toml", &with_ny(39))]);
+    let (fine, small) = (path_in(&dir, "fine.toml"), path_in(&dir, "small.toml"));
+    let run = |file: &str, extra: &[&str]| -> (Value, String) {
+        let mut args = vec!["critical", file, "--json", "-"];
+        args.extend_from_slice(extra);
+        let out = wedged(&args);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        let json = json_stdout(&out);
+        let mut args = vec!["critical", file];
+        args.extend_from_slice(extra);
+        let out = wedged(&args);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        (json, stdout(&out))
+    };
+    let said = "the same body with half the divisions first";
+    let (chained, text) = run(&fine, &[]);
+    assert_eq!(chained["nodes"], 80, "{chained}");
+    assert!(
+        text.contains(said) && text.contains("  m = 40: mu* = "),
+        "{text}"
+    );
+    assert_eq!(chained["info"]["dive_nodes"], 0, "the dive was not skipped");
+    let (scratch, text) = run(&fine, &["--no-chain"]);
+    assert!(!text.contains(said), "{text}");
+    assert!(scratch["info"]["dive_nodes"].as_u64().unwrap() > 0);
+    for end in ["lower", "upper"] {
+        let (a, b) = (
+            scratch[end].as_f64().unwrap(),
+            chained[end].as_f64().unwrap(),
+        );
+        assert!((a - b).abs() <= 1e-8 * a, "{end} {a} against {b}");
+    }
+    let (fewer, text) = run(&small, &[]);
+    assert_eq!(fewer["nodes"], 78, "{fewer}");
+    assert!(!text.contains(said), "{text}");
+}
+
 /// Two one-node bodies in one matrix (`K` block diagonal): `critical` searches each on its
 /// own and says so; `mu*` is the lesser closed form `K_tt / |K_nt|` (1 and 2), in the summary
 /// and in the JSON (`info.groups`), and the other body grazes in the witness.

@@ -2,6 +2,7 @@
 //! bracket, and its step plot.
 
 use std::path::Path;
+use std::time::Instant;
 
 use wedged::fe::Model;
 use wedged::{Critical, CriticalMethod, CriticalSettings, CriticalStatus, Problem, Stop};
@@ -13,6 +14,7 @@ use crate::draw::sweep_svg;
 use crate::report::files::write_atomic;
 use crate::report::files::{JsonTarget, PendingFile};
 use crate::report::{self, summary};
+use wedged_cli::coarse;
 use wedged_cli::input::problem_file;
 use wedged_cli::input::start::start_contact;
 use wedged_cli::jobs::{
@@ -30,6 +32,9 @@ pub(crate) struct CriticalJob<'a> {
     svg: Option<&'a Path>,
     /// `sweep --vtk`: the directory of the thresholds' configurations.
     vtk: Option<&'a Path>,
+    /// The coarser meshes' answers the search started from ([`wedged_cli::coarse`]), a line
+    /// each.
+    coarse: Vec<String>,
 }
 
 /// Checks the options (the library checks --tol) and loads the problem of `critical` or
@@ -60,6 +65,7 @@ pub(crate) fn critical_job<'a>(
         json,
         svg,
         vtk: None,
+        coarse: Vec::new(),
     })
 }
 
@@ -91,6 +97,30 @@ pub(crate) fn run_critical(args: CriticalArgs) -> Result<(), Failure> {
         let start =
             start_contact(path, job.problem.nodes(), job.model.as_ref()).map_err(Failure::Input)?;
         job.settings.start = Some(start);
+    }
+    if !args.no_chain && coarse::chains(&job.settings, &job.problem) {
+        let began = Instant::now();
+        // The file was read just now; a failure to read it again only skips the chain.
+        if let Ok(text) = std::fs::read_to_string(&args.problem) {
+            let found = coarse::start(
+                &text,
+                &args.problem,
+                job.problem.nodes(),
+                job.model.as_ref(),
+                &job.settings,
+                &INTERRUPTED,
+                Show::Terminal,
+            )?;
+            if let Some(found) = found {
+                job.settings.start = Some(found.start);
+                job.coarse = found.levels;
+            }
+        }
+        // The time limit is the whole command's.
+        let limits = &mut job.settings.limits;
+        limits.time_limit = limits
+            .time_limit
+            .map(|limit| limit.saturating_sub(began.elapsed()));
     }
     report_critical(job)
 }
@@ -200,6 +230,7 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
         json,
         svg,
         vtk,
+        coarse,
     } = job;
     let json = json
         .map(JsonTarget::open)
@@ -255,6 +286,16 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
             };
             if let Some(model) = &model {
                 stdout_text.push_str(&summary::model(&source, model));
+            }
+            if !coarse.is_empty() {
+                stdout_text.push_str(
+                    "the same body with half the divisions first, its wedge this search's start \
+                     (--no-chain: from scratch):\n",
+                );
+                for line in &coarse {
+                    stdout_text.push_str(&format!("  {line}\n"));
+                }
+                stdout_text.push('\n');
             }
             stdout_text.push_str(&report::critical::render(
                 &problem, &settings, &source, file_mu, &result, json_path,

@@ -1,0 +1,171 @@
+//! `critical`'s start on a fine generated mesh: the same body with half the divisions, solved
+//! first, its wedge mapped onto the fine mesh as the search's first leaf, as `critical --start`
+//! maps an earlier result ([`Earlier::onto`]). The coarse body is itself started from a coarser
+//! one while it has [`COARSE_FROM`] contact nodes or more.
+//!
+//! The search's own first leaf comes from its rounded root and a local search over contact
+//! sets, which on a fine mesh can stop far above `mu*` (the 2D plug at m = 400: at 2.28, where
+//! `mu*` is 1.77, and the run did not finish in 25 minutes); the coarse mesh's wedge lies in
+//! the right basin, and the local search goes from its image to `mu*` in a few steps. The
+//! bracket does not depend on the start (the proof is the search's): only the time does.
+//!
+//! Only where a start is used (`bnb` without `--certify` or `--shard`, no `--start` given) and
+//! in 2D (measured there: `BENCHMARKS.md`); `critical --no-chain` computes from scratch.
+
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+use wedged::fe::Model;
+use wedged::{CriticalMethod, CriticalSettings, CriticalStatus, Problem};
+
+use crate::input::problem_file;
+use crate::input::start::Earlier;
+use crate::jobs::{run_critical_library, Failure, Show};
+use crate::study;
+
+/// Problems of this many contact nodes or more start from the same body with half the
+/// divisions. (Measured on the 2D plug, `wedged critical` against the coarse run plus
+/// `critical --start` with its answer, 2026-11-29: m = 50 0.118 s against 0.026 + 0.091 s, no
+/// gain; m = 100 1.07 s against 0.11 + 0.84 s; m = 140 3.85 s against 0.34 + 3.19 s; m = 200
+/// 19.8 s against 0.95 + 15.95 s; m = 400 not finished in 15 minutes (the local search stops
+/// at 2.28) against 17 + 338 s.)
+pub const COARSE_FROM: usize = 80;
+
+/// The answers of the coarser meshes, coarsest first, and the start they give.
+#[derive(Debug, Clone)]
+pub struct Coarse {
+    /// The start: whether each of the fine problem's contact nodes is in contact.
+    pub start: Vec<bool>,
+    /// One line per coarse mesh, coarsest first (its contact nodes, its answer, its time).
+    pub levels: Vec<String>,
+}
+
+/// Whether a run of `settings` on `problem` starts from a coarser mesh's answer (when its
+/// problem file can be coarsened, [`start`]).
+pub fn chains(settings: &CriticalSettings, problem: &Problem) -> bool {
+    settings.method == CriticalMethod::Bnb
+        && !settings.certify
+        && settings.shard.is_none()
+        && settings.start.is_none()
+        && problem.dim() == 2
+        && problem.nodes() >= COARSE_FROM
+}
+
+/// The start of the problem of the file `path` (text `text`, `nodes` contact nodes on `model`)
+/// from its body with half the divisions (see the module docs), computed with `settings` (its
+/// start replaced); `None` where the file has no division counts to halve, the coarse body
+/// does not load, has no fewer contact nodes, or found no wedge. A failure of the program
+/// itself in a coarse run is an error.
+pub fn start(
+    text: &str,
+    path: &Path,
+    nodes: usize,
+    model: Option<&Model>,
+    settings: &CriticalSettings,
+    cancel: &AtomicBool,
+    show: Show,
+) -> Result<Option<Coarse>, Failure> {
+    let Ok(table) = text.parse::<toml::Table>() else {
+        return Ok(None);
+    };
+    let Some(coarse) = study::coarsened(&table) else {
+        return Ok(None);
+    };
+    let Ok(coarse_text) = toml::to_string(&coarse) else {
+        return Ok(None);
+    };
+    let Ok((loaded, _)) = problem_file::parse_str_for_critical(&coarse_text, path) else {
+        return Ok(None);
+    };
+    let m = loaded.problem.nodes();
+    if m >= nodes || m == 0 {
+        return Ok(None);
+    }
+    let mut settings = settings.clone();
+    settings.start = None;
+    let began = Instant::now();
+    // The coarse body from a coarser one, while it is large enough.
+    let below = if chains(&settings, &loaded.problem) {
+        start(
+            &coarse_text,
+            path,
+            m,
+            loaded.model.as_ref(),
+            &settings,
+            cancel,
+            show,
+        )?
+    } else {
+        None
+    };
+    let mut levels = Vec::new();
+    if let Some(below) = below {
+        settings.start = Some(below.start);
+        levels = below.levels;
+    }
+    let source = format!("{} [{m} contact nodes]", path.display());
+    let result = match run_critical_library(&loaded.problem, &settings, &source, cancel, show) {
+        Ok(result) => result,
+        Err(failure @ Failure::Internal(_)) => return Err(failure),
+        Err(_) => return Ok(None),
+    };
+    let Some(witness) = &result.witness else {
+        return Ok(None);
+    };
+    let answer = match (&result.status, result.mu_critical, result.upper) {
+        (CriticalStatus::Incomplete(_), _, Some(upper)) => {
+            format!("incomplete, mu* <= {upper:.9}")
+        }
+        (_, Some(mu), _) => format!("mu* = {mu:.9}"),
+        _ => return Ok(None),
+    };
+    levels.push(format!(
+        "m = {m}: {answer} ({:.2} s)",
+        began.elapsed().as_secs_f64()
+    ));
+    let earlier = Earlier::of(&witness.pattern, loaded.model.as_ref());
+    match earlier.onto(nodes, model, &source) {
+        Ok(start) if start.contains(&true) => Ok(Some(Coarse { start, levels })),
+        _ => Ok(None),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use wedged::examples::random_spd_problem;
+
+    /// A start from coarser meshes only where the search uses one, in 2D, from
+    /// [`COARSE_FROM`] nodes.
+    #[test]
+    fn chains_only_where_a_start_is_used() {
+        let large = random_spd_problem(COARSE_FROM, 2.0, 1);
+        let small = random_spd_problem(COARSE_FROM - 1, 2.0, 1);
+        let plain = CriticalSettings::default();
+        assert_eq!(plain.method, CriticalMethod::Bnb);
+        assert!(chains(&plain, &large));
+        assert!(!chains(&plain, &small));
+        let certify = CriticalSettings {
+            certify: true,
+            ..plain.clone()
+        };
+        let faces = CriticalSettings {
+            method: CriticalMethod::Faces,
+            ..plain.clone()
+        };
+        let started = CriticalSettings {
+            start: Some(vec![true; COARSE_FROM]),
+            ..plain.clone()
+        };
+        let shard = CriticalSettings {
+            shard: Some(wedged::Shard::parse("1/2").unwrap()),
+            ..plain.clone()
+        };
+        for settings in [certify, faces, started, shard] {
+            assert!(!chains(&settings, &large), "{settings:?}");
+        }
+        let three = wedged::examples::random_spd_problem_dim(3, COARSE_FROM, 2.0, 1);
+        assert!(!chains(&plain, &three));
+    }
+}
