@@ -52,6 +52,35 @@ pub fn chains(settings: &CriticalSettings, problem: &Problem) -> bool {
         && problem.nodes() >= COARSE_FROM
 }
 
+/// Where [`chains`] allows, starts `settings` from the coarser meshes' answer ([`start`]) of
+/// the problem of the file `path` (text `text`) and `model`, and takes the time they took
+/// from the time limit (the whole run's); returns their lines for the summary (none where
+/// nothing was chained). The one entry for the command and the Python package.
+#[allow(clippy::too_many_arguments)]
+pub fn chain(
+    text: &str,
+    path: &Path,
+    problem: &Problem,
+    model: Option<&Model>,
+    settings: &mut CriticalSettings,
+    cancel: &AtomicBool,
+    show: Show,
+) -> Result<Vec<String>, Failure> {
+    if !chains(settings, problem) {
+        return Ok(Vec::new());
+    }
+    let began = Instant::now();
+    let found = start(text, path, problem.nodes(), model, settings, cancel, show)?;
+    let limits = &mut settings.limits;
+    limits.time_limit = limits
+        .time_limit
+        .map(|limit| limit.saturating_sub(began.elapsed()));
+    Ok(found.map_or_else(Vec::new, |found| {
+        settings.start = Some(found.start);
+        found.levels
+    }))
+}
+
 /// The start of the problem of the file `path` (text `text`, `nodes` contact nodes on `model`)
 /// from its body with half the divisions (see the module docs), computed with `settings` (its
 /// start replaced); `None` where the file has no division counts to halve, the coarse body

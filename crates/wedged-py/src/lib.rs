@@ -29,6 +29,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString};
 use wedged::fe::{ElementKind, Model};
 use wedged::Problem;
+use wedged_cli::coarse;
 use wedged_cli::input::problem_file;
 use wedged_cli::jobs::{
     self, CriticalMethodArg, CriticalOptions, EnumerateOptions, Enumerated, Failure, MethodArg,
@@ -389,6 +390,7 @@ fn critical_json(
     progress: bool,
     shard: Option<&str>,
     start: Start,
+    file: Option<&(PathBuf, String)>,
 ) -> PyResult<String> {
     let shard = shard
         .map(wedged::Shard::parse)
@@ -418,6 +420,11 @@ fn critical_json(
         (None, None, None) => None,
     };
     released(py, |cancel| {
+        // As `critical`: a fine generated body from its coarser meshes' answer.
+        if let Some((path, text)) = file {
+            let show = show(progress);
+            coarse::chain(text, path, problem, model, &mut settings, cancel, show)?;
+        }
         let result =
             jobs::run_critical_library(problem, &settings, source, cancel, show(progress))?;
         if let Some(failure) = jobs::critical_certification_failure(source, &result) {
@@ -503,6 +510,7 @@ fn critical(
         progress,
         shard,
         (start, start_file, start_json),
+        None,
     )
 }
 
@@ -514,6 +522,8 @@ struct LoadedProblem {
     /// Whether the file gives `mu`.
     mu_given: bool,
     source: String,
+    /// The file's path and text, for `critical`'s coarser meshes ([`coarse::chain`]).
+    file: Option<(PathBuf, String)>,
 }
 
 #[pymethods]
@@ -605,9 +615,10 @@ impl LoadedProblem {
         )
     }
 
-    /// The JSON of `wedged critical FILE [--shard I/N] [--start PREVIOUS.json]` (`start` a
-    /// contact set, `start_file` an earlier result, `start_json` one's text).
-    #[pyo3(signature = (method=None, time_limit=None, certify=false, tol=None, progress=false, shard=None, start=None, start_file=None, start_json=None))]
+    /// The JSON of `wedged critical FILE [--shard I/N] [--start PREVIOUS.json] [--no-chain]`
+    /// (`start` a contact set, `start_file` an earlier result, `start_json` one's text; `chain`
+    /// false as `--no-chain`).
+    #[pyo3(signature = (method=None, time_limit=None, certify=false, tol=None, progress=false, shard=None, start=None, start_file=None, start_json=None, chain=true))]
     #[allow(clippy::too_many_arguments)]
     fn critical(
         &self,
@@ -621,6 +632,7 @@ impl LoadedProblem {
         start: Option<Vec<bool>>,
         start_file: Option<PathBuf>,
         start_json: Option<String>,
+        chain: bool,
     ) -> PyResult<String> {
         critical_json(
             py,
@@ -634,6 +646,7 @@ impl LoadedProblem {
             progress,
             shard,
             (start, start_file, start_json),
+            self.file.as_ref().filter(|_| chain),
         )
     }
 
@@ -748,11 +761,14 @@ fn load(py: Python<'_>, path: PathBuf) -> PyResult<LoadedProblem> {
     let (loaded, mu_given) = py
         .detach(|| problem_file::load_for_critical(&path))
         .map_err(|e| InputError::new_err(one_line(&e.to_string())))?;
+    // Kept for `critical`'s coarser meshes; a file that cannot be read again only skips them.
+    let file = std::fs::read_to_string(&path).ok().map(|text| (path, text));
     Ok(LoadedProblem {
         problem: loaded.problem,
         model: loaded.model,
         mu_given,
         source,
+        file,
     })
 }
 

@@ -70,6 +70,25 @@ def test_a_matrix_from_python_equals_its_problem_file(tmp_path):
     same_critical(critical, command)
 
 
+def test_critical_chains_a_fine_generated_mesh_as_the_command(tmp_path):
+    """A generated 2D body of 80 contact nodes or more is first solved with half the divisions
+    and started from that answer, as the command does (the dive skipped); `chain=False` as
+    `--no-chain` dives; the same answer all three ways."""
+    text = (EXAMPLES / "plug2d.toml").read_text()
+    text = text.replace("nx = 8 ", "nx = 3 ").replace("ny = 6 ", "ny = 40 ")
+    path = tmp_path / "fine.toml"
+    path.write_text(text)
+    problem = wedged.load(path)
+    chained = json.loads(problem.critical().to_json())
+    scratch = json.loads(problem.critical(chain=False).to_json())
+    command = cli_json("critical", str(path))
+    assert command["nodes"] == 80
+    same_critical(chained, command)
+    same_critical(scratch, command)
+    assert chained["info"]["dive_nodes"] == 0 and command["info"]["dive_nodes"] == 0
+    assert scratch["info"]["dive_nodes"] > 0
+
+
 def test_critical_start_equals_the_command(tmp_path):
     """`start=`: a coarser mesh's result (a path, mapped by position, as `--start`) or a
     contact set; the command's answer, the dive skipped, and a start of the wrong length is an

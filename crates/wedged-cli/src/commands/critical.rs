@@ -2,7 +2,6 @@
 //! bracket, and its step plot.
 
 use std::path::Path;
-use std::time::Instant;
 
 use wedged::fe::Model;
 use wedged::{Critical, CriticalMethod, CriticalSettings, CriticalStatus, Problem, Stop};
@@ -99,28 +98,18 @@ pub(crate) fn run_critical(args: CriticalArgs) -> Result<(), Failure> {
         job.settings.start = Some(start);
     }
     if !args.no_chain && coarse::chains(&job.settings, &job.problem) {
-        let began = Instant::now();
         // The file was read just now; a failure to read it again only skips the chain.
         if let Ok(text) = std::fs::read_to_string(&args.problem) {
-            let found = coarse::start(
+            job.coarse = coarse::chain(
                 &text,
                 &args.problem,
-                job.problem.nodes(),
+                &job.problem,
                 job.model.as_ref(),
-                &job.settings,
+                &mut job.settings,
                 &INTERRUPTED,
                 Show::Terminal,
             )?;
-            if let Some(found) = found {
-                job.settings.start = Some(found.start);
-                job.coarse = found.levels;
-            }
         }
-        // The time limit is the whole command's.
-        let limits = &mut job.settings.limits;
-        limits.time_limit = limits
-            .time_limit
-            .map(|limit| limit.saturating_sub(began.elapsed()));
     }
     report_critical(job)
 }

@@ -90,6 +90,7 @@ class LoadedProblem:
         start: Optional[List[bool]] = None,
         start_file: Optional[str] = None,
         start_json: Optional[str] = None,
+        chain: bool = True,
     ) -> str: ...
     def mesh(self) -> Dict[str, Any]: ...
     def recover(
