@@ -246,6 +246,40 @@ fn finer_points_start_from_the_coarser_answer_of_the_same_body() {
     }
 }
 
+/// A point of 80 contact nodes or more with no coarser point before it starts, as `critical`
+/// does, from its body with half the divisions (not with `--no-chain`); the same `mu*`.
+#[test]
+fn a_fine_first_point_starts_from_half_its_divisions() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = dir.path().join("plug.toml");
+    fs::write(&base, plug(0.3, 40, 2.0)).unwrap();
+    let mut mu = Vec::new();
+    for (name, extra) in [("halved", None), ("scratch", Some("--no-chain"))] {
+        let out_dir = dir.path().join(name);
+        let mut args = vec![
+            "study",
+            base.to_str().unwrap(),
+            "--vary",
+            "material.poisson=0.3",
+            "--out",
+            out_dir.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let out = wedged(&args);
+        assert_code(&out, 0);
+        let said = text(&out.stdout);
+        assert_eq!(
+            said.contains("started from the same body with half the divisions"),
+            extra.is_none(),
+            "{said}"
+        );
+        let rows = csv(&out_dir.join("study.csv"));
+        assert_eq!(column(&rows, "m"), ["80"]);
+        mu.push(column(&rows, "mu_star")[0].parse::<f64>().unwrap());
+    }
+    assert!((mu[0] - mu[1]).abs() <= 2e-9 * mu[1], "{mu:?}");
+}
+
 #[test]
 fn a_point_stopped_by_the_time_limit_is_incomplete_and_computed_again() {
     let dir = tempfile::tempdir().unwrap();

@@ -17,6 +17,7 @@ use crate::draw::export::write_witness_vtu;
 use crate::draw::study_svg::{study_svg, Point, Series};
 use crate::report::files::write_atomic;
 use crate::report::sig4;
+use wedged_cli::coarse;
 use wedged_cli::input::problem_file;
 use wedged_cli::input::start::Earlier;
 use wedged_cli::jobs::{plan_critical, run_critical_library, CriticalOptions};
@@ -137,6 +138,20 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
             });
         }
         let chained_from = settings.start.is_some();
+        // A point with no coarser point before it: its body with half the divisions, as
+        // `critical` does on a fine generated mesh.
+        let halved = !args.no_chain
+            && !chained_from
+            && !coarse::chain(
+                &edited,
+                &args.problem,
+                &loaded.problem,
+                loaded.model.as_ref(),
+                &mut settings,
+                &INTERRUPTED,
+                Show::Terminal,
+            )?
+            .is_empty();
         let result = run_critical_library(
             &loaded.problem,
             &settings,
@@ -182,6 +197,8 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
             row_text(&row),
             if chained_from {
                 ", started from the coarser answer"
+            } else if halved {
+                ", started from the same body with half the divisions"
             } else {
                 ""
             },
