@@ -135,9 +135,10 @@ pub(crate) struct CriticalArgs {
     /// not depend on it. Not used with --certify or --shard.
     #[arg(long, value_name = "PREVIOUS.json")]
     pub(crate) start: Option<PathBuf>,
-    /// Compute from scratch. By default a generated 2D body ([mesh.generate]) with 80 contact
-    /// nodes or more is first solved with half the divisions (itself so, while large enough),
-    /// and the search starts from that wedge as --start would; the bracket does not depend on it
+    /// Compute from scratch. By default a generated body ([mesh.generate]) with 80 contact
+    /// nodes or more in 2D, 40 in 3D, is first solved with half the divisions (itself so, while
+    /// large enough), and the search starts from that wedge as --start would; the bracket does
+    /// not depend on it
     #[arg(long)]
     pub(crate) no_chain: bool,
 }

@@ -9,8 +9,8 @@
 //! the right basin, and the local search goes from its image to `mu*` in a few steps. The
 //! bracket does not depend on the start (the proof is the search's): only the time does.
 //!
-//! Only where a start is used (`bnb` without `--certify` or `--shard`, no `--start` given) and
-//! in 2D (measured there: `BENCHMARKS.md`); `critical --no-chain` computes from scratch.
+//! Only where a start is used (`bnb` without `--certify` or `--shard`, no `--start` given);
+//! `critical --no-chain` computes from scratch.
 
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
@@ -24,13 +24,18 @@ use crate::input::start::Earlier;
 use crate::jobs::{run_critical_library, Failure, Show};
 use crate::study;
 
-/// Problems of this many contact nodes or more start from the same body with half the
+/// 2D problems of this many contact nodes or more start from the same body with half the
 /// divisions. (Measured on the 2D plug, `wedged critical` against the coarse run plus
 /// `critical --start` with its answer, 2026-11-29: m = 50 0.118 s against 0.026 + 0.091 s, no
 /// gain; m = 100 1.07 s against 0.11 + 0.84 s; m = 140 3.85 s against 0.34 + 3.19 s; m = 200
 /// 19.8 s against 0.95 + 15.95 s; m = 400 not finished in 15 minutes (the local search stops
 /// at 2.28) against 17 + 338 s.)
 pub const COARSE_FROM: usize = 80;
+
+/// The same for 3D problems. (Measured on the 3D V-groove plug, `examples/plug3d.toml` with
+/// `mu = 2`, 2026-11-29: m = 40 (`ny = nz = 4`) 2.37 s against 0.035 + 1.96 s (paired 0.82 for
+/// the second, `-n 3`); m = 80 (`ny = 9, nz = 4`) 224.7 s against 0.52 + 161.4 s, one run each.)
+pub const COARSE_FROM_3D: usize = 40;
 
 /// The answers of the coarser meshes, coarsest first, and the start they give.
 #[derive(Debug, Clone)]
@@ -48,8 +53,11 @@ pub fn chains(settings: &CriticalSettings, problem: &Problem) -> bool {
         && !settings.certify
         && settings.shard.is_none()
         && settings.start.is_none()
-        && problem.dim() == 2
-        && problem.nodes() >= COARSE_FROM
+        && problem.nodes()
+            >= match problem.dim() {
+                2 => COARSE_FROM,
+                _ => COARSE_FROM_3D,
+            }
 }
 
 /// Where [`chains`] allows, starts `settings` from the coarser meshes' answer ([`start`]) of
@@ -165,8 +173,8 @@ mod tests {
     use super::*;
     use wedged::examples::random_spd_problem;
 
-    /// A start from coarser meshes only where the search uses one, in 2D, from
-    /// [`COARSE_FROM`] nodes.
+    /// A start from coarser meshes only where the search uses one, from [`COARSE_FROM`]
+    /// nodes in 2D and [`COARSE_FROM_3D`] in 3D.
     #[test]
     fn chains_only_where_a_start_is_used() {
         let large = random_spd_problem(COARSE_FROM, 2.0, 1);
@@ -194,7 +202,8 @@ mod tests {
         for settings in [certify, faces, started, shard] {
             assert!(!chains(&settings, &large), "{settings:?}");
         }
-        let three = wedged::examples::random_spd_problem_dim(3, COARSE_FROM, 2.0, 1);
-        assert!(!chains(&plain, &three));
+        let three = |m| wedged::examples::random_spd_problem_dim(3, m, 2.0, 1);
+        assert!(chains(&plain, &three(COARSE_FROM_3D)));
+        assert!(!chains(&plain, &three(COARSE_FROM_3D - 1)));
     }
 }

@@ -1645,7 +1645,7 @@ fn critical_starts_from_a_coarser_meshs_answer() {
 /// `critical` on a generated 2D body of 80 contact nodes or more first solves the body with
 /// half the divisions, says so, and starts from its wedge (no dive); the bracket is that of
 /// `--no-chain`, which dives and says nothing of it; a body of fewer nodes is computed from
-/// scratch.
+/// scratch; a 3D body of 40 nodes is chained too.
 #[test]
 fn critical_starts_a_fine_generated_mesh_from_half_its_divisions() {
     let example = fs::read_to_string(
@@ -1703,6 +1703,36 @@ fn critical_starts_a_fine_generated_mesh_from_half_its_divisions() {
     let (fewer, text) = run(&small, &[]);
     assert_eq!(fewer["nodes"], 78, "{fewer}");
     assert!(!text.contains(said), "{text}");
+    // In 3D from 40 nodes: the V-groove plug with ny = nz = 4.
+    let groove = fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plug3d.toml"),
+    )
+    .unwrap()
+    .lines()
+    .map(|l| match l.split(' ').next() {
+        Some("mu") => "mu = 2.0".to_string(),
+        Some("ny" | "nz") => format!("{} = 4", &l[..2]),
+        _ => l.to_string(),
+    })
+    .collect::<Vec<_>>()
+    .join("\n");
+    let dir = dir_with(&[("groove.toml", &groove)]);
+    let groove = path_in(&dir, "groove.toml");
+    let (chained, text) = run(&groove, &[]);
+    assert_eq!(chained["nodes"], 40, "{chained}");
+    assert!(
+        text.contains(said) && text.contains("  m = 12: mu* = "),
+        "{text}"
+    );
+    assert_eq!(chained["info"]["dive_nodes"], 0, "the dive was not skipped");
+    let scratch = run(&groove, &["--no-chain"]).0;
+    for end in ["lower", "upper"] {
+        let (a, b) = (
+            scratch[end].as_f64().unwrap(),
+            chained[end].as_f64().unwrap(),
+        );
+        assert!((a - b).abs() <= 1e-8 * a, "3D {end} {a} against {b}");
+    }
 }
 
 /// Two one-node bodies in one matrix (`K` block diagonal): `critical` searches each on its
