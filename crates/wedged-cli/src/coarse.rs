@@ -42,7 +42,8 @@ pub const COARSE_FROM_3D: usize = 40;
 pub struct Coarse {
     /// The start: whether each of the fine problem's contact nodes is in contact.
     pub start: Vec<bool>,
-    /// One line per coarse mesh, coarsest first (its contact nodes, its answer, its time).
+    /// One line per coarse mesh, coarsest first (its contact nodes, its answer, the time of
+    /// its own run).
     pub levels: Vec<String>,
 }
 
@@ -121,7 +122,6 @@ pub fn start(
     }
     let mut settings = settings.clone();
     settings.start = None;
-    let began = Instant::now();
     // The coarse body from a coarser one, while it is large enough.
     let below = if chains(&settings, &loaded.problem) {
         start(
@@ -142,6 +142,8 @@ pub fn start(
         levels = below.levels;
     }
     let source = format!("{} [{m} contact nodes]", path.display());
+    // Each line's time is its own mesh's run, not its coarser meshes' (nor its loading).
+    let began = Instant::now();
     let result = match run_critical_library(&loaded.problem, &settings, &source, cancel, show) {
         Ok(result) => result,
         Err(failure @ Failure::Internal(_)) => return Err(failure),
