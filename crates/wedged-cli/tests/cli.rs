@@ -72,6 +72,27 @@ fn path_in(dir: &tempfile::TempDir, name: &str) -> String {
     dir.path().join(name).display().to_string()
 }
 
+/// An example problem file (`examples/NAME`) with the lines of the given top-level or table
+/// keys set to the values given (`key = value`), the others as they are.
+fn example_with(name: &str, keys: &[(&str, String)]) -> String {
+    fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../examples")
+            .join(name),
+    )
+    .unwrap()
+    .lines()
+    .map(|l| {
+        let key = l.split(' ').next().unwrap_or("");
+        match keys.iter().find(|(k, _)| *k == key) {
+            Some((k, v)) => format!("{k} = {v}"),
+            None => l.to_string(),
+        }
+    })
+    .collect::<Vec<_>>()
+    .join("\n")
+}
+
 /// Runs `enumerate` on a problem file with the given text; returns the output and the file's path.
 fn enumerate_text(toml: &str, extra: &[&str]) -> (Output, String) {
     let dir = dir_with(&[("p.toml", toml)]);
@@ -1576,24 +1597,11 @@ fn an_internal_failure_exits_1_and_says_it_is_a_bug() {
 /// input.
 #[test]
 fn critical_starts_from_a_coarser_meshs_answer() {
-    let example = fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plug2d.toml"),
-    )
-    .unwrap();
     let with_size = |nx: usize, ny: usize| -> String {
-        example
-            .lines()
-            .map(|l| {
-                if l.starts_with("nx = ") {
-                    format!("nx = {nx}")
-                } else if l.starts_with("ny = ") {
-                    format!("ny = {ny}")
-                } else {
-                    l.to_string()
-                }
-            })
-            .collect::<Vec<_>>()
-            .join("\n")
+        example_with(
+            "plug2d.toml",
+            &[("nx", nx.to_string()), ("ny", ny.to_string())],
+        )
     };
     let dir = dir_with(&[
         ("coarse.toml", &with_size(5, 4)),
@@ -1648,24 +1656,8 @@ fn critical_starts_from_a_coarser_meshs_answer() {
 /// scratch; a 3D body of 40 nodes is chained too.
 #[test]
 fn critical_starts_a_fine_generated_mesh_from_half_its_divisions() {
-    let example = fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plug2d.toml"),
-    )
-    .unwrap();
     let with_ny = |ny: usize| -> String {
-        example
-            .lines()
-            .map(|l| {
-                if l.starts_with("nx = ") {
-                    "nx = 3".to_string()
-                } else if l.starts_with("ny = ") {
-                    format!("ny = {ny}")
-                } else {
-                    l.to_string()
-                }
-            })
-            .collect::<Vec<_>>()
-            .join("\n")
+        example_with("plug2d.toml", &[("nx", "3".into()), ("ny", ny.to_string())])
     };
     // Two contact nodes a division up the two walls: 80 and 78.
     let dir = dir_with(&[("fine.toml", &with_ny(40)), ("small.toml", &with_ny(39))]);
@@ -1704,18 +1696,10 @@ fn critical_starts_a_fine_generated_mesh_from_half_its_divisions() {
     assert_eq!(fewer["nodes"], 78, "{fewer}");
     assert!(!text.contains(said), "{text}");
     // In 3D from 40 nodes: the V-groove plug with ny = nz = 4.
-    let groove = fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plug3d.toml"),
-    )
-    .unwrap()
-    .lines()
-    .map(|l| match l.split(' ').next() {
-        Some("mu") => "mu = 2.0".to_string(),
-        Some("ny" | "nz") => format!("{} = 4", &l[..2]),
-        _ => l.to_string(),
-    })
-    .collect::<Vec<_>>()
-    .join("\n");
+    let groove = example_with(
+        "plug3d.toml",
+        &[("mu", "2.0".into()), ("ny", "4".into()), ("nz", "4".into())],
+    );
     let dir = dir_with(&[("groove.toml", &groove)]);
     let groove = path_in(&dir, "groove.toml");
     let (chained, text) = run(&groove, &[]);

@@ -446,25 +446,20 @@ pub(crate) fn decide_inner(
     } else {
         by_simplex(form, counters, classes, shape, norm, objective, warm)
     };
-    match first {
-        Ok((decision, warm)) => (decision, Some(warm)),
-        Err(_) if matches!(norm, Norm::Pressed(_)) => {
-            match by_simplex(form, counters, classes, shape, Norm::Sum, objective, warm) {
-                Ok((decision, warm)) => {
-                    counters.relaxed.fetch_add(1, Ordering::Relaxed);
-                    (decision, Some(warm))
-                }
-                Err(_) => (
-                    by_clarabel(form, counters, classes, shape, norm, objective),
-                    None,
-                ),
-            }
-        }
-        Err(_) => (
-            by_clarabel(form, counters, classes, shape, norm, objective),
-            None,
-        ),
+    if let Ok((decision, warm)) = first {
+        return (decision, Some(warm));
     }
+    if matches!(norm, Norm::Pressed(_)) {
+        let relaxed = by_simplex(form, counters, classes, shape, Norm::Sum, objective, warm);
+        if let Ok((decision, warm)) = relaxed {
+            counters.relaxed.fetch_add(1, Ordering::Relaxed);
+            return (decision, Some(warm));
+        }
+    }
+    (
+        by_clarabel(form, counters, classes, shape, norm, objective),
+        None,
+    )
 }
 
 #[cfg(test)]
