@@ -19,8 +19,8 @@
 //! **The method.** From a given basis (or the slack basis): nonbasic variables at a bound (a
 //! free one at zero). When the basis is not primal feasible, the costs of the nonbasic
 //! variables whose reduced cost has the wrong sign are shifted to make it dual feasible, the
-//! dual simplex method restores primal feasibility (Harris's two-pass ratio test, the largest
-//! infeasibility leaves), the shifts are dropped, and the primal simplex method (Devex
+//! dual simplex method restores primal feasibility (Harris's two-pass ratio test; dual steepest
+//! edge pricing, the weights exact from the explicit inverse), the shifts are dropped, and the primal simplex method (Devex
 //! pricing, Harris's ratio test, bound flips) finishes. Idle rows (free, no cost) whose
 //! activity is basic are left out of the basis and its inverse, and so are the rows that a
 //! warm start's point leaves loose, until the part's point breaks them ([`active`]). The
@@ -447,6 +447,9 @@ impl<'a> Run<'a> {
             // on the 2D plug at m = 100.)
             let mut stalled = 0u64;
             let mut perturbed = perturb;
+            // The squared norms of the inverse's rows, kept exact at each pivot and computed
+            // again at a refactor.
+            let mut norms = self.row_norms();
             loop {
                 steps += 1;
                 if steps > limit {
@@ -461,11 +464,13 @@ impl<'a> Run<'a> {
                     since = 0;
                     stalled = 0;
                 }
-                // The most infeasible basic variable leaves.
-                let Some((p, v)) = (0..lp.rows)
+                // Dual steepest edge: the basic variable whose infeasibility is largest against
+                // the norm of its row of the inverse leaves.
+                let Some((p, _, v)) = (0..lp.rows)
                     .map(|k| (k, self.violation(self.basis.head[k])))
                     .filter(|&(_, v)| v != 0.0)
-                    .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+                    .map(|(k, v)| (k, v * v / norms[k], v))
+                    .max_by(|a, b| a.1.total_cmp(&b.1))
                 else {
                     if since == 0 {
                         break;
@@ -532,6 +537,7 @@ impl<'a> Run<'a> {
                     // The inverse has drifted: refactor and look again.
                     self.basis.inv =
                         Some(invert(lp, &self.basis.head).ok_or("the basis became singular")?);
+                    norms = self.row_norms();
                     since = 0;
                     self.primal();
                     self.dual();
@@ -558,7 +564,7 @@ impl<'a> Run<'a> {
                 }
                 self.x[q] += step;
                 let leave_at = if s > 0.0 { At::Lower } else { At::Upper };
-                self.pivot(p, q, &alpha, leave_at);
+                self.pivot((p, q), &alpha, leave_at, Some(&mut norms));
                 self.d[q] = 0.0;
                 self.d[out] = s * theta;
                 stats.pivots += 1;
@@ -692,7 +698,7 @@ impl<'a> Run<'a> {
                     weight[j] = weight[j].max(ratio * ratio * wq);
                 }
             }
-            self.pivot(p, q, &alpha, leave_at);
+            self.pivot((p, q), &alpha, leave_at, None);
             self.d[q] = 0.0;
             self.d[out] = -dq / aq;
             weight[out] = (wq / (aq * aq)).max(1.0);

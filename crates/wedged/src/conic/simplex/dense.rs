@@ -1,5 +1,6 @@
 //! The dense linear algebra of the simplex method: the basis inverse (Gauss-Jordan), products
-//! with it, and dot products on eight partial sums.
+//! with it, its update at a pivot (with the rows' norms for the dual method's pricing), and dot
+//! products on eight partial sums.
 //!
 //! The kernels that the simplex method spends its time in (a pivot's update of the inverse,
 //! `v^T A`, products with the inverse, dot products) are compiled for AVX2 as well, and that
@@ -260,6 +261,58 @@ kernel! {
     }
 }
 
+kernel! {
+    /// [`eliminate`] (the same bits), and the squared norm of every row it changed into
+    /// `norms` (the bits of [`dot`] of the row with itself): the dual method's steepest-edge
+    /// weights, kept exact at the cost of a sum in the pass that writes the rows anyway.
+    pub(super) fn eliminate_norms(
+        inv: &mut [f64],
+        r: usize,
+        p: usize,
+        alpha: &[f64],
+        norms: &mut [f64]
+    ) {
+        let f = 1.0 / alpha[p];
+        for a in &mut inv[p * r..(p + 1) * r] {
+            *a *= f;
+        }
+        let (before, rest) = inv.split_at_mut(p * r);
+        let (prow, after) = rest.split_at_mut(r);
+        norms[p] = dot8(prow, prow);
+        let others = before.chunks_exact_mut(r).zip(&alpha[..p]).enumerate();
+        let later = after.chunks_exact_mut(r).zip(&alpha[p + 1..]);
+        let later = later.enumerate().map(|(k, pair)| (k + p + 1, pair));
+        for (k, (row, &ak)) in others.chain(later) {
+            if ak == 0.0 {
+                continue;
+            }
+            // Eight values at a time through registers: written back, then squared into
+            // the partial sums (updated in place and read again, the loop stayed scalar).
+            let mut acc = [0.0f64; 8];
+            let mut rows = row.chunks_exact_mut(8);
+            let mut pivots = prow.chunks_exact(8);
+            for (c, b) in (&mut rows).zip(&mut pivots) {
+                let c: &mut [f64; 8] = c.try_into().expect("eight");
+                let b: &[f64; 8] = b.try_into().expect("eight");
+                let mut v = [0.0f64; 8];
+                for j in 0..8 {
+                    v[j] = c[j] - ak * b[j];
+                }
+                *c = v;
+                for j in 0..8 {
+                    acc[j] += v[j] * v[j];
+                }
+            }
+            let mut tail = 0.0;
+            for (a, b) in rows.into_remainder().iter_mut().zip(pivots.remainder()) {
+                *a -= ak * b;
+                tail += *a * *a;
+            }
+            norms[k] = acc.iter().sum::<f64>() + tail;
+        }
+    }
+}
+
 #[inline(always)]
 fn dot8(a: &[f64], b: &[f64]) -> f64 {
     let mut acc = [0.0f64; 8];
@@ -388,10 +441,31 @@ mod tests {
                 }
             }
         }
-        let alpha = values(r, 9);
+        let mut alpha = values(r, 9);
+        alpha[2] = 0.0;
         let p = 4;
         let mut updated = inv.clone();
         eliminate(&mut updated, r, p, &alpha);
+        // The same update with the rows' squared norms: the same bits, and each changed
+        // row's norm that of `dot` (a row left alone, `alpha_k = 0`, keeps its old norm).
+        for wide in [r, 16, 9] {
+            let inv = values(wide * wide, 7 + wide as u64);
+            let mut alpha = values(wide, 9);
+            alpha[2] = 0.0;
+            let mut plain = inv.clone();
+            eliminate(&mut plain, wide, p, &alpha);
+            let mut with = inv.clone();
+            let mut norms = vec![-1.0; wide];
+            eliminate_norms(&mut with, wide, p, &alpha, &mut norms);
+            for k in 0..wide {
+                let row = &with[k * wide..(k + 1) * wide];
+                let expected = if k == 2 { -1.0 } else { dot(row, row) };
+                assert_eq!(norms[k].to_bits(), expected.to_bits(), "norm {k} of {wide}");
+                for (a, b) in row.iter().zip(&plain[k * wide..(k + 1) * wide]) {
+                    assert_eq!(a.to_bits(), b.to_bits(), "eliminate_norms");
+                }
+            }
+        }
         let f = 1.0 / alpha[p];
         let prow: Vec<f64> = inv[p * r..(p + 1) * r].iter().map(|x| x * f).collect();
         for k in 0..r {

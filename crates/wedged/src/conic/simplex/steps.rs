@@ -2,7 +2,7 @@
 //! bounds, basic values and reduced costs recomputed from the inverse, the cost perturbation,
 //! the tests of a variable's bounds and reduced cost, a pivot and a column of `B^-1 [A  -I]`.
 
-use super::dense::{axpy, dot, eliminate, times_into};
+use super::dense::{axpy, dot, eliminate, eliminate_norms, times_into};
 use super::{At, Run, PERTURB, TOL};
 
 impl Run<'_> {
@@ -133,12 +133,22 @@ impl Run<'_> {
     }
 
     /// Pivots `q` into row position `p`, with `alpha = B^-1 a_q`; the leaving variable goes to
-    /// `leave_at`.
-    pub(super) fn pivot(&mut self, p: usize, q: usize, alpha: &[f64], leave_at: At) {
+    /// `leave_at`. `norms`, when given, are the squared norms of the inverse's rows, kept
+    /// exact ([`eliminate_norms`]).
+    pub(super) fn pivot(
+        &mut self,
+        (p, q): (usize, usize),
+        alpha: &[f64],
+        leave_at: At,
+        norms: Option<&mut [f64]>,
+    ) {
         let r = self.lp.rows;
         let out = self.basis.head[p];
         let inv = self.basis.inv.as_mut().expect("inverted before the run");
-        eliminate(inv, r, p, alpha);
+        match norms {
+            Some(norms) => eliminate_norms(inv, r, p, alpha, norms),
+            None => eliminate(inv, r, p, alpha),
+        }
         self.basis.head[p] = q;
         self.basis.at[q] = At::Basic;
         self.basis.at[out] = leave_at;
@@ -147,6 +157,15 @@ impl Run<'_> {
             At::Upper => self.lp.hi[out],
             _ => 0.0,
         };
+    }
+
+    /// The squared norms of the inverse's rows: the dual method's steepest-edge weights.
+    pub(super) fn row_norms(&self) -> Vec<f64> {
+        let r = self.lp.rows;
+        self.inv()
+            .chunks_exact(r)
+            .map(|row| dot(row, row))
+            .collect()
     }
 
     /// `B^-1 a_q` into `alpha` (`col` a buffer for `a_q`; the storage of both reused).
