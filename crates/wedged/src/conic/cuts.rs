@@ -224,7 +224,8 @@ pub(crate) fn tighten(
                     }
                 }
             };
-            match (extreme(1.0), extreme(-1.0)) {
+            // The two programs as two tasks: the parts' last nodes share the threads.
+            match rayon::join(|| extreme(1.0), || extreme(-1.0)) {
                 // Neither pressed nor separated: no solution at all.
                 (None, None) => None,
                 // Never in contact: it never presses, and its drive is its open gap.
