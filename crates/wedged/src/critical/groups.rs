@@ -187,18 +187,12 @@ pub(super) fn by_groups(
         info.tol_achieved = (u - l) / u;
     }
     info.seconds = clock.elapsed().as_secs_f64();
-    Ok(Critical {
+    Ok(Critical::of_bracket(
         status,
-        mu_critical: (status == CriticalStatus::Wedged)
-            .then_some(upper)
-            .flatten(),
-        lower,
-        upper,
+        (lower, upper),
         witness,
-        thresholds: Vec::new(),
         undecided,
         info,
         certificate,
-        shard: None,
-    })
+    ))
 }

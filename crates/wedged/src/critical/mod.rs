@@ -307,6 +307,34 @@ pub struct Critical {
     pub shard: Option<ShardReport>,
 }
 
+impl Critical {
+    /// A result of `status` with the bracket `[lower, upper]` (`mu*` is `upper` where wedged),
+    /// no per-pattern thresholds and no shard.
+    pub(crate) fn of_bracket(
+        status: CriticalStatus,
+        (lower, upper): (Option<f64>, Option<f64>),
+        witness: Option<CriticalWitness>,
+        undecided: Vec<Undecided>,
+        info: CriticalInfo,
+        certificate: Option<certify::CriticalCertificate>,
+    ) -> Critical {
+        Critical {
+            status,
+            mu_critical: (status == CriticalStatus::Wedged)
+                .then_some(upper)
+                .flatten(),
+            lower,
+            upper,
+            witness,
+            thresholds: Vec::new(),
+            undecided,
+            info,
+            certificate,
+            shard: None,
+        }
+    }
+}
+
 /// Where a running search is.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CriticalProgress {
@@ -507,18 +535,16 @@ pub fn critical_with_control(
             .then(a.pattern.cmp(&b.pattern))
     });
     Ok(Critical {
-        status,
-        mu_critical: (status == CriticalStatus::Wedged)
-            .then_some(upper)
-            .flatten(),
-        lower,
-        upper,
-        witness,
         thresholds,
-        undecided: found.undecided,
-        info,
-        certificate,
         shard: found.shard,
+        ..Critical::of_bracket(
+            status,
+            (lower, upper),
+            witness,
+            found.undecided,
+            info,
+            certificate,
+        )
     })
 }
 

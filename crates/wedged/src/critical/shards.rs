@@ -80,20 +80,14 @@ pub fn merge_shards(parts: Vec<Critical>) -> Result<Critical, String> {
         }
         _ => None,
     };
-    Ok(Critical {
+    Ok(Critical::of_bracket(
         status,
-        mu_critical: (status == CriticalStatus::Wedged)
-            .then_some(upper)
-            .flatten(),
-        lower,
-        upper,
-        witness: best.and_then(|b| b.witness.clone()),
-        thresholds: Vec::new(),
+        (lower, upper),
+        best.and_then(|b| b.witness.clone()),
         undecided,
         info,
         certificate,
-        shard: None,
-    })
+    ))
 }
 
 /// Adds a shard's counters to `sum` (seconds: the longest).
