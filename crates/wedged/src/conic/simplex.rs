@@ -20,8 +20,8 @@
 //! free one at zero). When the basis is not primal feasible, the costs of the nonbasic
 //! variables whose reduced cost has the wrong sign are shifted to make it dual feasible, the
 //! dual simplex method restores primal feasibility (Harris's two-pass ratio test; dual steepest
-//! edge pricing, the weights exact from the explicit inverse), the shifts are dropped, and the primal simplex method (Devex
-//! pricing, Harris's ratio test, bound flips) finishes. Idle rows (free, no cost) whose
+//! edge pricing, the weights exact from the explicit inverse), the shifts are dropped, and the
+//! primal simplex method (Devex pricing, Harris's ratio test, bound flips) finishes. Idle rows (free, no cost) whose
 //! activity is basic are left out of the basis and its inverse, and so are the rows that a
 //! warm start's point leaves loose, until the part's point breaks them ([`active`]). The
 //! basic values and the reduced costs are updated at each pivot and recomputed from the
