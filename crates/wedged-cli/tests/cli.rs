@@ -1674,6 +1674,16 @@ fn critical_starts_a_fine_generated_mesh_from_half_its_divisions() {
         assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
         (json, stdout(&out))
     };
+    // The two runs' brackets agree to 1e-8 (`what` names the body in a failure).
+    let same_bracket = |scratch: &Value, chained: &Value, what: &str| {
+        for end in ["lower", "upper"] {
+            let (a, b) = (
+                scratch[end].as_f64().unwrap(),
+                chained[end].as_f64().unwrap(),
+            );
+            assert!((a - b).abs() <= 1e-8 * a, "{what} {end} {a} against {b}");
+        }
+    };
     let said = "the same body with half the divisions first";
     let (chained, text) = run(&fine, &[]);
     assert_eq!(chained["nodes"], 80, "{chained}");
@@ -1685,13 +1695,7 @@ fn critical_starts_a_fine_generated_mesh_from_half_its_divisions() {
     let (scratch, text) = run(&fine, &["--no-chain"]);
     assert!(!text.contains(said), "{text}");
     assert!(scratch["info"]["dive_nodes"].as_u64().unwrap() > 0);
-    for end in ["lower", "upper"] {
-        let (a, b) = (
-            scratch[end].as_f64().unwrap(),
-            chained[end].as_f64().unwrap(),
-        );
-        assert!((a - b).abs() <= 1e-8 * a, "{end} {a} against {b}");
-    }
+    same_bracket(&scratch, &chained, "2D");
     let (fewer, text) = run(&small, &[]);
     assert_eq!(fewer["nodes"], 78, "{fewer}");
     assert!(!text.contains(said), "{text}");
@@ -1710,13 +1714,7 @@ fn critical_starts_a_fine_generated_mesh_from_half_its_divisions() {
     );
     assert_eq!(chained["info"]["dive_nodes"], 0, "the dive was not skipped");
     let scratch = run(&groove, &["--no-chain"]).0;
-    for end in ["lower", "upper"] {
-        let (a, b) = (
-            scratch[end].as_f64().unwrap(),
-            chained[end].as_f64().unwrap(),
-        );
-        assert!((a - b).abs() <= 1e-8 * a, "3D {end} {a} against {b}");
-    }
+    same_bracket(&scratch, &chained, "3D");
 }
 
 /// Two one-node bodies in one matrix (`K` block diagonal): `critical` searches each on its
