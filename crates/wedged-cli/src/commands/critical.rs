@@ -34,6 +34,8 @@ pub(crate) struct CriticalJob<'a> {
     /// The coarser meshes' answers the search started from ([`wedged_cli::coarse`]), a line
     /// each.
     coarse: Vec<String>,
+    /// The problem file's text, as read once (the coarser meshes are edited from it).
+    text: String,
 }
 
 /// Checks the options (the library checks --tol) and loads the problem of `critical` or
@@ -53,8 +55,9 @@ pub(crate) fn critical_job<'a>(
         certify,
         shard: None,
     })?;
-    let (loaded, mu_given) =
-        problem_file::load_for_critical(problem).map_err(|e| Failure::Input(e.to_string()))?;
+    let input = |e: problem_file::LoadError| Failure::Input(e.to_string());
+    let text = problem_file::read_text(problem).map_err(input)?;
+    let (loaded, mu_given) = problem_file::parse_str_for_critical(&text, problem).map_err(input)?;
     Ok(CriticalJob {
         file_mu: mu_given.then(|| loaded.problem.mu()),
         problem: loaded.problem,
@@ -65,6 +68,7 @@ pub(crate) fn critical_job<'a>(
         svg,
         vtk: None,
         coarse: Vec::new(),
+        text,
     })
 }
 
@@ -97,19 +101,16 @@ pub(crate) fn run_critical(args: CriticalArgs) -> Result<(), Failure> {
             start_contact(path, job.problem.nodes(), job.model.as_ref()).map_err(Failure::Input)?;
         job.settings.start = Some(start);
     }
-    if !args.no_chain && coarse::chains(&job.settings, &job.problem) {
-        // The file was read just now; a failure to read it again only skips the chain.
-        if let Ok(text) = std::fs::read_to_string(&args.problem) {
-            job.coarse = coarse::chain(
-                &text,
-                &args.problem,
-                &job.problem,
-                job.model.as_ref(),
-                &mut job.settings,
-                &INTERRUPTED,
-                Show::Terminal,
-            )?;
-        }
+    if !args.no_chain {
+        job.coarse = coarse::chain(
+            &job.text,
+            &args.problem,
+            &job.problem,
+            job.model.as_ref(),
+            &mut job.settings,
+            &INTERRUPTED,
+            Show::Terminal,
+        )?;
     }
     report_critical(job)
 }
@@ -220,6 +221,7 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
         svg,
         vtk,
         coarse,
+        text: _,
     } = job;
     let json = json
         .map(JsonTarget::open)

@@ -266,7 +266,8 @@ fn error_for(path: &Path) -> Err {
     Box::new(move |m: String| LoadError(format!("{name}: {m}")))
 }
 
-fn read_text(path: &Path) -> Result<String, LoadError> {
+/// The text of the problem file at `path` (an error naming it when it cannot be read).
+pub fn read_text(path: &Path) -> Result<String, LoadError> {
     fs::read_to_string(path)
         .map_err(|e| error_for(path)(format!("cannot read the problem file: {e}")))
 }
