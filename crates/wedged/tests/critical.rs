@@ -1096,3 +1096,45 @@ fn brackets_reach_the_tolerance() {
         }
     }
 }
+
+/// A loose tolerance (`--tol 1e-2`, `0.1`: a user who wants two digits) is met, not refused:
+/// every method's run is complete, nothing left undecided, its bracket at most `tol` wide and
+/// holding the default run's `mu*`. (Each leaf's lower end is certified at `theta (1 - tol /
+/// 2)`; the library once refused every such bracket wider than `1e-3`, so that a run with `tol`
+/// above `2e-3` left every leaf undecided and ran on for minutes.)
+#[test]
+fn a_loose_tolerance_is_met_not_refused() {
+    let mut runs = 0;
+    for case in cases().iter().filter(|c| c.wedged()).step_by(3) {
+        for (method, tight) in &case.results {
+            let mu = tight.mu_critical.expect("wedged");
+            for tol in [1e-2, 0.1] {
+                let what = format!("{}, {method}, tol {tol:e}", case.name());
+                let settings = CriticalSettings {
+                    tol,
+                    ..settings(*method)
+                };
+                let c =
+                    critical(&case.problem, &settings).unwrap_or_else(|e| panic!("{what}: {e}"));
+                assert_eq!(c.status, CriticalStatus::Wedged, "{what}: {c:?}");
+                assert!(
+                    c.undecided.is_empty(),
+                    "{what}: undecided {:?}",
+                    c.undecided
+                );
+                check_certificate(&c, *method, &what);
+                let (lower, upper) = (c.lower.unwrap(), c.upper.unwrap());
+                assert!(
+                    lower <= mu * (1.0 + 1e-9) && mu <= upper * (1.0 + 1e-9),
+                    "{what}: [{lower}, {upper}] against {mu}"
+                );
+                assert!(
+                    upper - lower <= tol * upper * (1.0 + 1e-6),
+                    "{what}: [{lower}, {upper}] wider than tol"
+                );
+                runs += 1;
+            }
+        }
+    }
+    assert!(runs >= 30, "only {runs} runs");
+}

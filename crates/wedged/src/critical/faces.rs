@@ -11,7 +11,8 @@
 
 use std::sync::atomic::Ordering;
 
-use super::{CriticalInfo, CriticalProgress, Ctx, Found, Leaf, LOOSEST};
+use super::loosest;
+use super::{CriticalInfo, CriticalProgress, Ctx, Found, Leaf};
 use crate::conic::program::{leaf_classes, Decision, Goal, Norm};
 use crate::patterns::Undecided;
 use crate::run::Control;
@@ -146,7 +147,7 @@ pub(super) fn run(
                 break;
             }
         }
-        if hi - lo > LOOSEST * hi {
+        if hi - lo > loosest(ctx.tol) * hi {
             undecided(unsure.unwrap_or_else(|| "stopped".into()));
             continue;
         }
