@@ -1138,3 +1138,45 @@ fn a_loose_tolerance_is_met_not_refused() {
     }
     assert!(runs >= 30, "only {runs} runs");
 }
+
+/// A tolerance finer than the certificates reach (`--tol 1e-12`) gets at least the default's
+/// bracket, never a wider one: each leaf is refuted as close below its threshold as its own
+/// solution allows, up to half the default `tol`. (The library once tried only `tol / 2`
+/// below, fell back to the solver's probes when that failed, and certified 1e-7 where the
+/// default reaches 1e-9.)
+#[test]
+fn a_finer_tolerance_never_widens_the_bracket() {
+    let mut runs = 0;
+    let mut finer = 0;
+    for case in cases().iter().filter(|c| c.wedged()).step_by(2) {
+        for (method, tight) in case
+            .results
+            .iter()
+            .filter(|(m, _)| *m == CriticalMethod::Bnb)
+        {
+            let what = format!("{}, {method}, tol 1e-12", case.name());
+            let settings = CriticalSettings {
+                tol: 1e-12,
+                ..settings(*method)
+            };
+            let c = critical(&case.problem, &settings).unwrap_or_else(|e| panic!("{what}: {e}"));
+            assert_eq!(c.status, CriticalStatus::Wedged, "{what}: {c:?}");
+            check_certificate(&c, *method, &what);
+            let mu = tight.mu_critical.expect("wedged");
+            let (lower, upper) = (c.lower.unwrap(), c.upper.unwrap());
+            assert!(
+                lower <= mu * (1.0 + 1e-9) && mu <= upper * (1.0 + 1e-7),
+                "{what}: [{lower}, {upper}] against {mu}"
+            );
+            let default = tight.info.tol_achieved;
+            assert!(
+                c.info.tol_achieved <= default * (1.0 + 1e-6),
+                "{what}: {:e} against the default's {default:e}",
+                c.info.tol_achieved
+            );
+            finer += usize::from(c.info.tol_achieved < 0.5 * default);
+            runs += 1;
+        }
+    }
+    assert!(runs >= 15 && finer * 2 >= runs, "{finer} finer of {runs}");
+}

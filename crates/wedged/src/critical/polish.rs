@@ -38,23 +38,41 @@ const TIGHT: f64 = 1e-6;
 /// Round-off allowed in the floating-point check, relative to the terms of each `c_i`.
 const ROUNDOFF: f64 = 1e-12;
 
-/// A refutation of the leaf of `contact` at `mu` (below `theta`, the leaf's threshold) with
-/// `sum r_n = 1`, if the least-norm certificate's tight set gives one that passes the check.
+/// A refutation of the leaf of `contact` at the first of `mus` (each below `theta`, the
+/// leaf's threshold, the closest first) for which the least-norm certificate's tight set gives
+/// one that passes the check, with `sum r_n = 1`; with that `mu`.
 pub(crate) fn refute_below(
     form: &Formulation,
     contact: &[bool],
     theta: f64,
-    mu: f64,
-) -> Option<Refutation> {
+    mus: &[f64],
+) -> Option<(f64, Refutation)> {
     // A floating body's certificates carry the rigid modes too; not polished (the probes of
     // `leaf_threshold` bracket its thresholds instead).
-    if !(mu < theta && mu > 0.0 && theta.is_finite()) || form.modes > 0 {
+    if !theta.is_finite() || form.modes > 0 {
         return None;
     }
-    STEPS.iter().find_map(|step| {
-        let mut tight = Tight::read(form, contact, theta * (1.0 - step))?;
-        check(form, contact, &tight.solve_aligned(form, mu)?, mu)
-    })
+    let mus: Vec<f64> = mus
+        .iter()
+        .copied()
+        .filter(|&mu| mu < theta && mu > 0.0)
+        .collect();
+    // Each step's tight set read once (a certificate program), when first needed.
+    let mut tights: Vec<Option<Option<Tight>>> = STEPS.iter().map(|_| None).collect();
+    for &mu in &mus {
+        for (step, slot) in STEPS.iter().zip(tights.iter_mut()) {
+            let tight =
+                slot.get_or_insert_with(|| Tight::read(form, contact, theta * (1.0 - step)));
+            let Some(tight) = tight else { continue };
+            if let Some(f) = tight
+                .solve_aligned(form, mu)
+                .and_then(|y| check(form, contact, &y, mu))
+            {
+                return Some((mu, f));
+            }
+        }
+    }
+    None
 }
 
 /// The leaf's threshold located more closely than the solver's points give it: the friction
