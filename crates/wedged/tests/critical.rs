@@ -1180,3 +1180,30 @@ fn a_finer_tolerance_never_widens_the_bracket() {
     }
     assert!(runs >= 15 && finer * 2 >= runs, "{finer} finer of {runs}");
 }
+
+/// The seed's method for `mu*` (`--method enumerate`, and `wedged sweep`) enumerates the 2D
+/// pieces by the contact-set search, which holds no rays: on the 2D plug with m = 20 it
+/// answers under a bound of 20,000 rays held, and gives `bnb`'s `mu*`. (It used the seed's
+/// pruned double description, which held millions of rays there: 2 GB and 17 s for 5 pieces.)
+#[test]
+fn the_enumerate_method_holds_no_rays_in_2d() {
+    let problem = wedged::examples::plug2d_tri(10)
+        .unwrap()
+        .problem(2.0)
+        .unwrap();
+    let bounded = CriticalSettings {
+        method: CriticalMethod::Enumerate,
+        limits: Limits {
+            max_rays: Some(20_000),
+            ..Limits::default()
+        },
+        ..CriticalSettings::default()
+    };
+    let c = critical(&problem, &bounded).unwrap();
+    assert_eq!(c.status, CriticalStatus::Wedged, "{c:?}");
+    assert!(c.undecided.is_empty(), "{:?}", c.undecided);
+    let bnb = critical(&problem, &CriticalSettings::default()).unwrap();
+    let (a, b) = (c.upper.unwrap(), bnb.upper.unwrap());
+    assert!((a - b).abs() <= 1e-8 * b, "{a} against {b}");
+    assert!(c.info.patterns_enumerated >= 5, "{:?}", c.info);
+}
