@@ -436,3 +436,45 @@ fn sweep_writes_each_pattern_at_its_threshold_as_a_series() {
         &["--vtk needs a meshed body"],
     );
 }
+
+/// A point's line shows as many digits of `mu*` as its bracket certifies, as `critical` does:
+/// four with `--tol 1e-2`, ten with the default (whose `mu*` it matches to 1e-2).
+#[test]
+fn a_points_line_shows_the_digits_its_bracket_certifies() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = dir.path().join("plug.toml");
+    fs::write(&base, plug(0.3, 2, 2.0)).unwrap();
+    let line = |tol: Option<&str>, out: &str| -> String {
+        let out_dir = dir.path().join(out);
+        let mut args = vec![
+            "study",
+            base.to_str().unwrap(),
+            "--vary",
+            "material.poisson=0.3",
+            "--out",
+            out_dir.to_str().unwrap(),
+        ];
+        if let Some(tol) = tol {
+            args.extend(["--tol", tol]);
+        }
+        let out = wedged(&args);
+        assert_code(&out, 0);
+        let stdout = text(&out.stdout);
+        let line = stdout
+            .lines()
+            .find(|l| l.contains("mu* = "))
+            .unwrap_or_default();
+        let after = line.split("mu* = ").nth(1).unwrap_or_default();
+        after
+            .split_whitespace()
+            .next()
+            .unwrap_or_default()
+            .to_string()
+    };
+    let (loose, fine) = (line(Some("1e-2"), "loose"), line(None, "fine"));
+    let digits = |s: &str| s.chars().filter(char::is_ascii_digit).count();
+    assert_eq!(digits(&loose), 4, "{loose}");
+    assert_eq!(digits(&fine), 10, "{fine}");
+    let (a, b): (f64, f64) = (loose.parse().unwrap(), fine.parse().unwrap());
+    assert!((a - b).abs() <= 1e-2 * b && a >= b, "{a} against {b}");
+}
