@@ -51,6 +51,25 @@ fn plug(poisson: f64, ny: usize, top_width: f64) -> String {
     )
 }
 
+/// `wedged study` of the file `base` over the grid of `vary` (one `--vary` each), with `extra`
+/// options, into `out_dir`; it succeeds.
+fn study(base: &Path, out_dir: &Path, vary: &[&str], extra: &[&str]) -> Output {
+    let mut args = vec!["study", base.to_str().unwrap()];
+    for v in vary {
+        args.extend(["--vary", v]);
+    }
+    args.extend(["--out", out_dir.to_str().unwrap()]);
+    args.extend(extra);
+    let out = wedged(&args);
+    assert_code(&out, 0);
+    out
+}
+
+/// [`study`] of the one point `material.poisson = 0.3`.
+fn one_point(base: &Path, out_dir: &Path, extra: &[&str]) -> Output {
+    study(base, out_dir, &["material.poisson=0.3"], extra)
+}
+
 /// `mu*` of a problem file by `wedged critical --json -`.
 fn critical(dir: &Path, name: &str, toml: &str) -> f64 {
     let path = dir.join(name);
@@ -208,19 +227,8 @@ fn finer_points_start_from_the_coarser_answer_of_the_same_body() {
     fs::write(&base, plug(0.3, 1, 2.0)).unwrap();
     let run = |name: &str, extra: &[&str]| {
         let out_dir = dir.path().join(name);
-        let mut args = vec![
-            "study",
-            base.to_str().unwrap(),
-            "--vary",
-            "material.poisson=0.2,0.35",
-            "--vary",
-            "refine=4,6,8",
-            "--out",
-            out_dir.to_str().unwrap(),
-        ];
-        args.extend_from_slice(extra);
-        let out = wedged(&args);
-        assert_code(&out, 0);
+        let vary = ["material.poisson=0.2,0.35", "refine=4,6,8"];
+        let out = study(&base, &out_dir, &vary, extra);
         (csv(&out_dir.join("study.csv")), text(&out.stdout))
     };
     let (chained, said) = run("chained", &[]);
@@ -256,17 +264,7 @@ fn a_fine_first_point_starts_from_half_its_divisions() {
     let mut mu = Vec::new();
     for (name, extra) in [("halved", None), ("scratch", Some("--no-chain"))] {
         let out_dir = dir.path().join(name);
-        let mut args = vec![
-            "study",
-            base.to_str().unwrap(),
-            "--vary",
-            "material.poisson=0.3",
-            "--out",
-            out_dir.to_str().unwrap(),
-        ];
-        args.extend(extra);
-        let out = wedged(&args);
-        assert_code(&out, 0);
+        let out = one_point(&base, &out_dir, extra.as_slice());
         let said = text(&out.stdout);
         assert_eq!(
             said.contains("started from the same body with half the divisions"),
@@ -445,20 +443,8 @@ fn a_points_line_shows_the_digits_its_bracket_certifies() {
     let base = dir.path().join("plug.toml");
     fs::write(&base, plug(0.3, 2, 2.0)).unwrap();
     let line = |tol: Option<&str>, out: &str| -> String {
-        let out_dir = dir.path().join(out);
-        let mut args = vec![
-            "study",
-            base.to_str().unwrap(),
-            "--vary",
-            "material.poisson=0.3",
-            "--out",
-            out_dir.to_str().unwrap(),
-        ];
-        if let Some(tol) = tol {
-            args.extend(["--tol", tol]);
-        }
-        let out = wedged(&args);
-        assert_code(&out, 0);
+        let extra: Vec<&str> = tol.map(|t| vec!["--tol", t]).unwrap_or_default();
+        let out = one_point(&base, &dir.path().join(out), &extra);
         let stdout = text(&out.stdout);
         let line = stdout
             .lines()
