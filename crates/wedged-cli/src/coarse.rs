@@ -22,7 +22,7 @@ use wedged::{CriticalMethod, CriticalSettings, CriticalStatus, Problem};
 use crate::input::problem_file;
 use crate::input::start::Earlier;
 use crate::jobs::{run_critical_library, Failure, Show};
-use crate::report::critical::bracket_text;
+use crate::report::critical::mu_text;
 use crate::study;
 
 /// 2D problems of this many contact nodes or more start from the same body with half the
@@ -158,10 +158,7 @@ pub fn start(
             format!("incomplete, mu* <= {upper:.9}")
         }
         // As many digits as the bracket certifies (`critical`'s answer line).
-        (_, Some(mu), _) => match result.lower {
-            Some(lower) => format!("mu* = {}", bracket_text(lower, mu).0),
-            None => format!("mu* = {mu:.9}"),
-        },
+        (_, Some(mu), _) => format!("mu* = {}", mu_text(mu, result.lower)),
         _ => return Ok(None),
     };
     levels.push(format!(

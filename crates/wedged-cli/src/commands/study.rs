@@ -15,7 +15,7 @@ use super::*;
 use crate::draw::export::collection;
 use crate::draw::export::write_witness_vtu;
 use crate::draw::study_svg::{study_svg, Point, Series};
-use crate::report::critical::bracket_text;
+use crate::report::critical::mu_text;
 use crate::report::files::write_atomic;
 use crate::report::sig4;
 use wedged_cli::coarse;
@@ -433,10 +433,7 @@ fn row_text(row: &Row) -> String {
     let answer = match (row.status.as_str(), row.mu_star, row.upper) {
         ("never", _, _) => "never wedges".to_string(),
         // As many digits as the bracket certifies (`critical`'s answer line).
-        (_, Some(mu), _) => match row.lower {
-            Some(lower) => format!("mu* = {}", bracket_text(lower, mu).0),
-            None => format!("mu* = {mu:.9}"),
-        },
+        (_, Some(mu), _) => format!("mu* = {}", mu_text(mu, row.lower)),
         (_, None, Some(upper)) => format!("incomplete, mu* <= {}", sig4(upper)),
         _ => "incomplete, nothing found".to_string(),
     };

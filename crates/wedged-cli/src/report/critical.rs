@@ -277,6 +277,15 @@ pub fn bracket_text(lower: f64, upper: f64) -> (String, String, String) {
     (up.clone(), bound(lower, digits, Round::Down), up)
 }
 
+/// `mu*` (a bracket's upper end) to the digits its bracket certifies ([`bracket_text`]), or
+/// to nine decimals when there is no lower end.
+pub fn mu_text(mu: f64, lower: Option<f64>) -> String {
+    match lower {
+        Some(lower) => bracket_text(lower, mu).0,
+        None => format!("{mu:.9}"),
+    }
+}
+
 /// The answer on one line: `mu* = X (certified bracket [L, U], relative width W)`, with a note
 /// when the width certified is wider than asked; or the line of a body that never wedges.
 pub fn answer_line(result: &Critical, tol: f64) -> Option<String> {

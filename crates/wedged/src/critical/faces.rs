@@ -11,8 +11,7 @@
 
 use std::sync::atomic::Ordering;
 
-use super::loosest;
-use super::{CriticalInfo, CriticalProgress, Ctx, Found, Leaf};
+use super::{loosest, CriticalInfo, CriticalProgress, Ctx, Found, Leaf};
 use crate::conic::program::{leaf_classes, Decision, Goal, Norm};
 use crate::patterns::Undecided;
 use crate::run::Control;
