@@ -265,6 +265,10 @@ fn contains_and(s: &[u64], a: &[u64], b: &[u64]) -> bool {
         .all(|(s, (x, y))| s & x & y == x & y)
 }
 
+/// The least scale a row's value at a ray is judged against ([`double_description`]): rows and
+/// rays have largest entry 1, so a value below `tol FLOOR` is round-off whatever its terms.
+const FLOOR: f64 = 1e-3;
+
 /// The extreme rays of the pointed, full-dimensional cone `{ y in R^k : rows y >= 0 }` (`rows`
 /// row after row, `k` values each, scaled to unit max-norm), each scaled to unit max-norm and
 /// with its zero set (a bit per row), and the most rays held at once.
@@ -331,7 +335,11 @@ fn double_description(rows: &[f64], k: usize, tol: f64) -> Result<(Held, usize),
             let y = rays.y(j);
             let v: f64 = r.iter().zip(y).map(|(a, b)| a * b).sum();
             let s: f64 = r.iter().zip(y).map(|(a, b)| (a * b).abs()).sum();
-            if v.abs() <= tol * s {
+            // Zero against its terms, or against the unit scale of the row and the ray (each
+            // has largest entry 1) when every term is round-off: on uncoupled bodies a ray of
+            // one body meets another body's row only in entries of order 1e-17, whose sum
+            // had passed for a sign, and the pair made a "ray" spanning both bodies.
+            if v.abs() <= tol * s.max(FLOOR) {
                 0.0
             } else {
                 v
