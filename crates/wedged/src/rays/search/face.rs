@@ -22,7 +22,7 @@ use nalgebra::DMatrix;
 use crate::conic::contact_lp::{Entry2, LeafSupport};
 use crate::conic::program::{Class, Formulation};
 use crate::linalg::null_space;
-use crate::rays::dd::{bit, set_bit};
+use crate::rays::dd::{bit, set_bit, NOISE};
 use crate::solution::NodeStatus;
 
 /// A ray of a face in the search's (equilibrated) units: reactions, `sum r_n = 1`, and status.
@@ -265,10 +265,6 @@ fn contains_and(s: &[u64], a: &[u64], b: &[u64]) -> bool {
         .all(|(s, (x, y))| s & x & y == x & y)
 }
 
-/// The least scale a row's value at a ray is judged against ([`double_description`]): rows and
-/// rays have largest entry 1, so a value below `tol FLOOR` is round-off whatever its terms.
-const FLOOR: f64 = 1e-3;
-
 /// The extreme rays of the pointed, full-dimensional cone `{ y in R^k : rows y >= 0 }` (`rows`
 /// row after row, `k` values each, scaled to unit max-norm), each scaled to unit max-norm and
 /// with its zero set (a bit per row), and the most rays held at once.
@@ -330,16 +326,18 @@ fn double_description(rows: &[f64], k: usize, tol: f64) -> Result<(Held, usize),
             continue;
         }
         let r = row(i);
+        let row_max = r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         values.clear();
         values.extend((0..rays.len()).map(|j| {
             let y = rays.y(j);
             let v: f64 = r.iter().zip(y).map(|(a, b)| a * b).sum();
             let s: f64 = r.iter().zip(y).map(|(a, b)| (a * b).abs()).sum();
-            // Zero against its terms, or against the unit scale of the row and the ray (each
-            // has largest entry 1) when every term is round-off: on uncoupled bodies a ray of
-            // one body meets another body's row only in entries of order 1e-17, whose sum
-            // had passed for a sign, and the pair made a "ray" spanning both bodies.
-            if v.abs() <= tol * s.max(FLOOR) {
+            let size: f64 = y.iter().map(|x| x.abs()).sum();
+            // Zero against its terms, or below the round-off floor of the row and the ray
+            // whatever its terms, as the double description's `classify` judges: on uncoupled
+            // bodies a ray of one body meets another body's row only in entries of order
+            // 1e-17, whose sum had passed for a sign, and the pair made a "ray" spanning both.
+            if v.abs() <= tol * s || v.abs() <= NOISE * row_max * size {
                 0.0
             } else {
                 v
