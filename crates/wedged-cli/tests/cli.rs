@@ -642,6 +642,20 @@ fn mu_negative() {
     assert_bad_input(&out, &["--mu", "got -1"]);
 }
 
+/// Above the ray methods' largest friction coefficient, the floating-point ray methods refuse
+/// the problem as bad input (they had failed as a bug, exit 1); `--exact` and the sign
+/// patterns take it.
+#[test]
+fn mu_beyond_the_ray_methods_resolution() {
+    let text = with_rows("[[2, 1], [1, 1]]");
+    let (out, path) = enumerate_text(&text, &["--mu", "1e5"]);
+    assert_bad_input(&out, &[&path, "mu = 100000 is above 1e4", "--exact"]);
+    for method in [&["--exact"][..], &["--method", "pattern-search"]] {
+        let (out, _) = enumerate_text(&text, &[&["--mu", "1e5"][..], method].concat());
+        assert_eq!(out.status.code(), Some(0), "{method:?}: {out:?}");
+    }
+}
+
 #[test]
 fn mu_nan_on_the_command_line() {
     let (out, _) = enumerate_text(&with_rows("[[2, 1], [1, 1]]"), &["--mu", "nan"]);

@@ -74,7 +74,9 @@ pub use patterns::{
     PatternCertificate, PatternInfo, PatternMethod, PatternSettings, PatternSink, Patterns,
 };
 pub use problem::{Problem, ProblemError};
-pub use rays::{enumerate, enumerate_with_control, Enumeration, Info, Method, Progress, Settings};
+pub use rays::{
+    enumerate, enumerate_with_control, Enumeration, Info, Method, Progress, Settings, RAYS_MU_MAX,
+};
 #[doc(hidden)]
 pub use run::Fault;
 pub use run::{EnumerateError, Error, Limits, Outcome, Stop};

@@ -280,10 +280,27 @@ fn one_node_closed_form() {
             }
         }
     }
-    // No coupling: never wedged, however large mu is.
-    let p = Problem::new(2, DMatrix::from_row_slice(2, 2, &[2.0, 0.0, 0.0, 1.0]), 1e6).unwrap();
+    // No coupling: never wedged, however large mu is; above `RAYS_MU_MAX` only the exact
+    // method takes the problem, and the others refuse it as bad input.
+    let k = DMatrix::from_row_slice(2, 2, &[2.0, 0.0, 0.0, 1.0]);
+    let p = Problem::new(2, k.clone(), wedged::RAYS_MU_MAX).unwrap();
     for method in Method::ALL {
         assert_eq!(run(&p, method).outcome, Outcome::NotWedged);
+    }
+    let p = Problem::new(2, k, 1e6).unwrap();
+    for method in Method::ALL {
+        let settings = Settings {
+            method,
+            ..Settings::default()
+        };
+        match (method, enumerate(&p, &settings)) {
+            (Method::Exact, Ok(e)) => assert_eq!(e.outcome, Outcome::NotWedged),
+            (Method::Exact, Err(e)) => panic!("exact at mu = 1e6: {e}"),
+            (_, Err(wedged::Error::InvalidSettings(why))) => {
+                assert!(why.contains("mu = 1000000 is above 1e4"), "{why}")
+            }
+            (_, other) => panic!("{method} at mu = 1e6: {other:?}"),
+        }
     }
 }
 

@@ -263,6 +263,21 @@ fn both_searches_agree_with_pruned_dd_on_the_triangle_plug() {
     assert_eq!(cone_patterns(&truth), patterns_of(&pattern_search(&p)));
 }
 
+/// The demo plug (m = 12) at the ray methods' largest friction coefficient, `RAYS_MU_MAX`:
+/// both ray methods finish with the same rays and pieces, thousands of them. (The search's
+/// check compared a ray with its recomputation entry by entry, and a pressure's round-off,
+/// repeated `mu` times in a slipping node's `r_t`, failed it: an internal failure at `1e4`.)
+#[test]
+fn the_ray_methods_agree_at_their_largest_mu() {
+    let (model, _) = wedged::examples::plug2d_demo().unwrap();
+    let p = model.problem(wedged::RAYS_MU_MAX).unwrap();
+    let truth = run(&p, Method::PrunedDd);
+    let rays = run(&p, Method::Search);
+    assert_eq!(statuses(&truth), statuses(&rays));
+    assert_eq!(truth.cones, rays.cones);
+    assert!(truth.rays.len() > 10_000, "{} rays", truth.rays.len());
+}
+
 /// Renumbered nodes, flipped tangents, node scales from `2^-20` to `2^20` and a scaled `K` do
 /// not change the pieces of `pattern-search`.
 #[test]

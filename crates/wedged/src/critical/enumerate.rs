@@ -52,62 +52,64 @@ pub(super) fn run(
             bar: None,
             lower: None,
         });
-        let (outcome, found) = if problem.dim() == 2 && !problem.is_floating() {
-            // The contact-set search, as `enumerate` takes by default in 2D: the seed's
-            // pruned double description (the library's default method) held 2 GB of rays and
-            // took 17 s for the 5 pieces of the 2D plug at m = 20 (`wedged sweep`), where the
-            // search takes milliseconds.
-            let e = enumerate_with_control(
-                &at,
-                &Settings {
-                    method: Method::Search,
-                    limits,
-                    ..Settings::default()
-                },
-                &|_| {},
-                cancel,
-            )?;
-            let pieces = e
-                .cones
-                .iter()
-                .map(|c| {
-                    let q = e
-                        .cone_status(c)
-                        .iter()
-                        .map(|s| match s {
-                            NodeStatus::Separated => ContactPattern::Separated,
-                            NodeStatus::Grazing => ContactPattern::Grazing,
-                            _ => ContactPattern::Contact,
-                        })
-                        .collect();
-                    (q, e.cone_centroid(c).1)
-                })
-                .collect::<Vec<_>>();
-            (e.outcome, pieces)
-        } else {
-            let p = enumerate_patterns_with_control(
-                &at,
-                &PatternSettings {
-                    limits,
-                    ..PatternSettings::default()
-                },
-                &|_| {},
-                cancel,
-            )?;
-            if !p.undecided.is_empty() {
-                return Ok(Found {
-                    undecided: p.undecided,
-                    ..Found::default()
-                });
-            }
-            // A floating body's point carries its rigid amplitudes, read off the witness.
-            let pieces = p
-                .patterns
-                .into_iter()
-                .map(|q| (q.pattern, at.point_of(&q.u, &q.r)))
-                .collect();
-            (p.outcome, pieces)
-        };
+        // (Above the ray methods' largest `mu` the sign patterns go on.)
+        let (outcome, found) =
+            if problem.dim() == 2 && !problem.is_floating() && mu <= crate::rays::RAYS_MU_MAX {
+                // The contact-set search, as `enumerate` takes by default in 2D: the seed's
+                // pruned double description (the library's default method) held 2 GB of rays and
+                // took 17 s for the 5 pieces of the 2D plug at m = 20 (`wedged sweep`), where the
+                // search takes milliseconds.
+                let e = enumerate_with_control(
+                    &at,
+                    &Settings {
+                        method: Method::Search,
+                        limits,
+                        ..Settings::default()
+                    },
+                    &|_| {},
+                    cancel,
+                )?;
+                let pieces = e
+                    .cones
+                    .iter()
+                    .map(|c| {
+                        let q = e
+                            .cone_status(c)
+                            .iter()
+                            .map(|s| match s {
+                                NodeStatus::Separated => ContactPattern::Separated,
+                                NodeStatus::Grazing => ContactPattern::Grazing,
+                                _ => ContactPattern::Contact,
+                            })
+                            .collect();
+                        (q, e.cone_centroid(c).1)
+                    })
+                    .collect::<Vec<_>>();
+                (e.outcome, pieces)
+            } else {
+                let p = enumerate_patterns_with_control(
+                    &at,
+                    &PatternSettings {
+                        limits,
+                        ..PatternSettings::default()
+                    },
+                    &|_| {},
+                    cancel,
+                )?;
+                if !p.undecided.is_empty() {
+                    return Ok(Found {
+                        undecided: p.undecided,
+                        ..Found::default()
+                    });
+                }
+                // A floating body's point carries its rigid amplitudes, read off the witness.
+                let pieces = p
+                    .patterns
+                    .into_iter()
+                    .map(|q| (q.pattern, at.point_of(&q.u, &q.r)))
+                    .collect();
+                (p.outcome, pieces)
+            };
         info.mu_enumerated = Some(mu);
         match outcome {
             Outcome::Incomplete(stop) => {

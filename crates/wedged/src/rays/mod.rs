@@ -43,16 +43,25 @@ pub fn enumerate(problem: &Problem, settings: &Settings) -> Result<Enumeration, 
     enumerate_with_control(problem, settings, &|_| {}, &AtomicBool::new(false))
 }
 
-/// [`enumerate`], calling `progress` as the run goes (from the calling thread) and stopping
-/// cleanly ([`Outcome::Incomplete`]) as soon as `cancel` is set (by a Ctrl-C handler, say) or
-/// a limit of `settings.limits` is reached. Every algorithm has this pair of entry points: the
-/// plain call, and `_with_control` with a progress callback and a cancellation flag
-/// ([`crate::enumerate_patterns_with_control`], [`crate::critical_with_control`]).
 /// Why the ray methods refuse a floating body.
 pub const FLOATING_RAYS: &str = "the ray methods (pruned-dd, full-dd, faces, search, exact) \
      are written for a clamped body (u = K^-1 r); this body floats, so its pieces are found as \
      sign patterns: use --method bnb or pattern-faces";
 
+/// The largest friction coefficient the floating-point ray methods take. A slipping node's
+/// `r_t` is `mu` times its pressure, and on a ray with such a node a pressure's round-off
+/// comes back `mu` times larger in the friction constraints; past this the rays no longer
+/// pass their own checks. (The 2D plug of `examples/plug2d.toml`: `search` and `pruned-dd`
+/// agree at `mu = 1e4`, 44,690 rays; at `1e5` both stop with a ray that fails its check. Real
+/// friction coefficients are below 10; the pieces at `1e4` are, within the resolution, those of
+/// unlimited friction.) `Method::Exact` has no such limit.
+pub const RAYS_MU_MAX: f64 = 1e4;
+
+/// [`enumerate`], calling `progress` as the run goes (from the calling thread) and stopping
+/// cleanly ([`Outcome::Incomplete`]) as soon as `cancel` is set (by a Ctrl-C handler, say) or
+/// a limit of `settings.limits` is reached. Every algorithm has this pair of entry points: the
+/// plain call, and `_with_control` with a progress callback and a cancellation flag
+/// ([`crate::enumerate_patterns_with_control`], [`crate::critical_with_control`]).
 pub fn enumerate_with_control(
     problem: &Problem,
     settings: &Settings,
@@ -65,6 +74,14 @@ pub fn enumerate_with_control(
     check_zero_tol(settings.zero_tol)?;
     if problem.is_floating() {
         return Err(EnumerateError::InvalidSettings(FLOATING_RAYS.into()));
+    }
+    if settings.method != Method::Exact && problem.mu() > RAYS_MU_MAX {
+        return Err(EnumerateError::InvalidSettings(format!(
+            "mu = {} is above {RAYS_MU_MAX:e}, the largest friction coefficient the \
+             floating-point ray methods resolve (a slipping node's r_t is mu times its \
+             pressure); use --exact, or --method pattern-search",
+            problem.mu()
+        )));
     }
     if settings.method == Method::Faces && problem.nodes() > FACES_MAX_NODES {
         return Err(EnumerateError::InvalidSettings(format!(
