@@ -255,13 +255,47 @@ pub fn coarsened(base: &Table) -> Option<Table> {
     any.then_some(table)
 }
 
+/// The dotted names of the numbers a problem file's table sets (not inside arrays), in order.
+fn number_keys(table: &Table, prefix: &str, out: &mut Vec<String>) {
+    for (name, value) in table {
+        let dotted = format!("{prefix}{name}");
+        match value {
+            Value::Integer(_) | Value::Float(_) => out.push(dotted),
+            Value::Table(inner) => number_keys(inner, &format!("{dotted}."), out),
+            _ => {}
+        }
+    }
+}
+
+/// The end of the message for a key the file does not set: the keys it sets that end the same
+/// way (`poisson`: `material.poisson`), or else every number it sets.
+fn key_hint(table: &Table, key: &str) -> String {
+    let mut known = Vec::new();
+    number_keys(table, "", &mut known);
+    let last = key.rsplit('.').next().unwrap_or(key);
+    let like: Vec<&String> = known
+        .iter()
+        .filter(|k| k.rsplit('.').next() == Some(last))
+        .collect();
+    if !like.is_empty() {
+        let like: Vec<&str> = like.iter().map(|k| k.as_str()).collect();
+        format!("did you mean {}?", like.join(" or "))
+    } else {
+        format!("the numbers it sets: {}", known.join(", "))
+    }
+}
+
 fn set_key(table: &mut Table, key: &str, v: f64) -> Result<(), String> {
+    let hint = key_hint(table, key);
     let mut parts = key.split('.').peekable();
     let mut here = table;
     while let Some(part) = parts.next() {
         if parts.peek().is_none() {
             let slot = here.get_mut(part).ok_or_else(|| {
-                format!("--vary {key}: the problem file has no such key (a study changes keys the file sets)")
+                format!(
+                    "--vary {key}: the problem file has no such key (a study changes keys the \
+                     file sets, dotted; {hint})"
+                )
             })?;
             *slot = match slot {
                 Value::Integer(_) if v.fract() == 0.0 && v.abs() < 9e15 => Value::Integer(v as i64),
@@ -283,7 +317,9 @@ fn set_key(table: &mut Table, key: &str, v: f64) -> Result<(), String> {
         here = here
             .get_mut(part)
             .and_then(Value::as_table_mut)
-            .ok_or_else(|| format!("--vary {key}: the problem file has no table {part:?} there"))?;
+            .ok_or_else(|| {
+                format!("--vary {key}: the problem file has no table {part:?} there ({hint})")
+            })?;
     }
     unreachable!("a key has at least one part")
 }

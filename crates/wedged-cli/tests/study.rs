@@ -325,7 +325,20 @@ fn bad_studies_are_one_line_errors() {
     };
     assert_bad_input(
         &run(&["--vary", "material.poison=0.2"]),
-        &["material.poison", "no such key"],
+        &[
+            "material.poison",
+            "no such key",
+            "the numbers it sets: material.poisson",
+        ],
+    );
+    // A key without its table is named with it.
+    assert_bad_input(
+        &run(&["--vary", "poisson=0.2"]),
+        &["no such key", "did you mean material.poisson?"],
+    );
+    assert_bad_input(
+        &run(&["--vary", "nope.ny=2"]),
+        &["no table \"nope\"", "mesh.generate.ny"],
     );
     // A malformed --vary is clap's usage error (exit 2, with the usage line).
     let out = run(&["--vary", "poisson"]);
