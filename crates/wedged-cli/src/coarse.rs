@@ -14,10 +14,10 @@
 
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use wedged::fe::Model;
-use wedged::{CriticalMethod, CriticalSettings, CriticalStatus, Problem};
+use wedged::{CriticalMethod, CriticalSettings, CriticalStatus, Problem, Stop};
 
 use crate::input::problem_file;
 use crate::input::start::Earlier;
@@ -89,6 +89,17 @@ pub fn chain(
         settings.start = Some(found.start);
         found.levels
     }))
+}
+
+/// `status` with the time limit the caller was given where [`chain`] shortened it: a run
+/// stopped by its limit names the limit asked for, not what the coarser meshes left of it.
+pub fn given_limit(status: CriticalStatus, given: Option<Duration>) -> CriticalStatus {
+    match (status, given) {
+        (CriticalStatus::Incomplete(Stop::TimeLimit(_)), Some(limit)) => {
+            CriticalStatus::Incomplete(Stop::TimeLimit(limit))
+        }
+        _ => status,
+    }
 }
 
 /// The start of the problem of the file `path` (text `text`, `nodes` contact nodes on `model`)

@@ -1316,6 +1316,31 @@ fn critical_stopped_by_the_time_limit_is_marked_incomplete() {
     );
 }
 
+/// A run stopped by its time limit names the limit given, also where a part of the run was
+/// handed what was left of it: the fine mesh after its coarser ones (`critical` on a generated
+/// body of 80 contact nodes), the enumeration of `--method enumerate` (both said "0 s", or
+/// whatever was left).
+#[test]
+fn a_stopped_critical_names_the_time_limit_given() {
+    let chained = example_with("plug2d.toml", &[("nx", "40".into()), ("ny", "40".into())]);
+    let enumerated = example_with("plug2d.toml", &[("ny", "20".into())]);
+    for (toml, extra) in [(chained, None), (enumerated, Some("enumerate"))] {
+        let dir = dir_with(&[("p.toml", &toml)]);
+        let path = path_in(&dir, "p.toml");
+        let mut args = vec!["critical", path.as_str(), "--time-limit", "0.05"];
+        if let Some(method) = extra {
+            args.extend(["--method", method]);
+        }
+        let out = wedged(&args);
+        assert_eq!(out.status.code(), Some(3), "{extra:?}: {}", stderr(&out));
+        let err = stderr(&out);
+        assert!(
+            err.contains("the time limit of 0.05 s ran out"),
+            "{extra:?}: {err}"
+        );
+    }
+}
+
 #[test]
 fn sweep_plots_each_patterns_threshold() {
     let dir = tempfile::tempdir().unwrap();

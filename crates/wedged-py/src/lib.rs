@@ -421,12 +421,14 @@ fn critical_json(
     };
     released(py, |cancel| {
         // As `critical`: a fine generated body from its coarser meshes' answer.
+        let given = settings.limits.time_limit;
         if let Some((path, text)) = file {
             let show = show(progress);
             coarse::chain(text, path, problem, model, &mut settings, cancel, show)?;
         }
-        let result =
+        let mut result =
             jobs::run_critical_library(problem, &settings, source, cancel, show(progress))?;
+        result.status = coarse::given_limit(result.status, given);
         if let Some(failure) = jobs::critical_certification_failure(source, &result) {
             return Err(failure);
         }

@@ -36,6 +36,8 @@ pub(crate) struct CriticalJob<'a> {
     coarse: Vec<String>,
     /// The problem file's text, as read once (the coarser meshes are edited from it).
     text: String,
+    /// The time limit given, which the coarser meshes' runs shorten in `settings`.
+    time_limit: Option<std::time::Duration>,
 }
 
 /// Checks the options (the library checks --tol) and loads the problem of `critical` or
@@ -62,13 +64,14 @@ pub(crate) fn critical_job<'a>(
         file_mu: mu_given.then(|| loaded.problem.mu()),
         problem: loaded.problem,
         model: loaded.model,
-        settings,
         source: problem.display().to_string(),
         json,
         svg,
         vtk: None,
         coarse: Vec::new(),
         text,
+        time_limit: settings.limits.time_limit,
+        settings,
     })
 }
 
@@ -222,6 +225,7 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
         vtk,
         coarse,
         text: _,
+        time_limit,
     } = job;
     let json = json
         .map(JsonTarget::open)
@@ -231,7 +235,9 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
         .map(|path| PendingFile::open(path, "SVG file"))
         .transpose()
         .map_err(|e| Failure::Input(e.to_string()))?;
-    let result = run_critical_library(&problem, &settings, &source, &INTERRUPTED, Show::Terminal)?;
+    let mut result =
+        run_critical_library(&problem, &settings, &source, &INTERRUPTED, Show::Terminal)?;
+    result.status = coarse::given_limit(result.status, time_limit);
     let json_text = json
         .as_ref()
         .map(|_| report::critical::to_json(&problem, &settings, &source, &result, model.as_ref()));

@@ -17,7 +17,7 @@ use std::time::Instant;
 use super::{CriticalInfo, CriticalProgress, Ctx, Found, PatternThreshold};
 use crate::patterns::{enumerate_patterns_with_control, PatternSettings, Undecided};
 use crate::rays::{enumerate_with_control, Method, Settings};
-use crate::run::{Control, EnumerateError, Limits, Outcome};
+use crate::run::{Control, EnumerateError, Limits, Outcome, Stop};
 use crate::solution::{ContactPattern, NodeStatus};
 
 /// How many times the enumeration's `mu` may double before the branch and bound takes over.
@@ -41,7 +41,7 @@ pub(super) fn run(
             .with_mu(mu)
             .map_err(|e| EnumerateError::Internal(format!("cannot enumerate at mu = {mu}: {e}")))?;
         // The enumeration gets what is left of the time limit.
-        let limits = Limits {
+        let left = Limits {
             time_limit: limits.time_limit.map(|t| t.saturating_sub(start.elapsed())),
             ..limits
         };
@@ -63,7 +63,7 @@ pub(super) fn run(
                     &at,
                     &Settings {
                         method: Method::Search,
-                        limits,
+                        limits: left,
                         ..Settings::default()
                     },
                     &|_| {},
@@ -90,7 +90,7 @@ pub(super) fn run(
                 let p = enumerate_patterns_with_control(
                     &at,
                     &PatternSettings {
-                        limits,
+                        limits: left,
                         ..PatternSettings::default()
                     },
                     &|_| {},
@@ -113,10 +113,15 @@ pub(super) fn run(
         info.mu_enumerated = Some(mu);
         match outcome {
             Outcome::Incomplete(stop) => {
+                // The run's own limit, not what the enumeration was left of it.
+                let stop = match (stop, limits.time_limit) {
+                    (Stop::TimeLimit(_), Some(limit)) => Stop::TimeLimit(limit),
+                    _ => stop,
+                };
                 return Ok(Found {
                     stop: Some(stop),
                     ..Found::default()
-                })
+                });
             }
             Outcome::NotWedged => mu *= 2.0,
             Outcome::Wedged => {
