@@ -22,7 +22,7 @@ use wedged::{CriticalMethod, CriticalSettings, CriticalStatus, Problem, Stop};
 use crate::input::problem_file;
 use crate::input::start::Earlier;
 use crate::jobs::{run_critical_library, Failure, Show};
-use crate::report::critical::mu_text;
+use crate::report::critical::{mu_text, upper_text};
 use crate::study;
 
 /// 2D problems of this many contact nodes or more start from the same body with half the
@@ -166,7 +166,7 @@ pub fn start(
     };
     let answer = match (&result.status, result.mu_critical, result.upper) {
         (CriticalStatus::Incomplete(_), _, Some(upper)) => {
-            format!("incomplete, mu* <= {upper:.9}")
+            format!("incomplete, mu* <= {}", upper_text(upper))
         }
         // As many digits as the bracket certifies (`critical`'s answer line).
         (_, Some(mu), _) => format!("mu* = {}", mu_text(mu, result.lower)),

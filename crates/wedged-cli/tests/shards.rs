@@ -260,8 +260,33 @@ fn critical_shards_merge_to_the_one_run_bracket() {
     let merged_path = dir.path().join("merged.json");
     let out = merge(&parts, &merged_path);
     assert_code(&out, 0);
-    assert!(text(&out.stdout).contains("wedged, mu* in ["));
     let merged = json(&merged_path);
+    // The summary prints the bracket as `critical` does, to the digits it certifies, rounded
+    // outwards: the ends printed still hold the JSON's.
+    let line = text(&out.stdout);
+    let printed = line
+        .split("wedged, mu* = ")
+        .nth(1)
+        .and_then(|rest| rest.split(" (certified bracket [").nth(1))
+        .and_then(|rest| rest.split("])").next())
+        .unwrap_or_else(|| panic!("{line}"));
+    let ends: Vec<f64> = printed.split(", ").map(|x| x.parse().unwrap()).collect();
+    assert!(ends[0] <= merged["lower"].as_f64().unwrap(), "{line}");
+    assert!(ends[1] >= merged["upper"].as_f64().unwrap(), "{line}");
+    assert!(printed.len() < 30, "{line}");
+    // Without a shard: incomplete, an upper end only, rounded up.
+    let out = merge(&parts[..2], &merged_path);
+    assert_code(&out, 3);
+    let line = text(&out.stdout);
+    let upper: f64 = line
+        .split("incomplete, mu* <= ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .unwrap_or_else(|| panic!("{line}"))
+        .parse()
+        .unwrap();
+    let partial = json(&merged_path);
+    assert!(upper >= partial["upper"].as_f64().unwrap(), "{line}");
     assert_eq!(merged["status"], "wedged");
     let (mu, one) = (
         merged["mu_critical"].as_f64().unwrap(),

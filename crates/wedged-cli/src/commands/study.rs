@@ -15,7 +15,7 @@ use super::*;
 use crate::draw::export::collection;
 use crate::draw::export::write_witness_vtu;
 use crate::draw::study_svg::{study_svg, Point, Series};
-use crate::report::critical::mu_text;
+use crate::report::critical::{mu_text, upper_text};
 use crate::report::files::write_atomic;
 use crate::report::sig4;
 use wedged_cli::coarse;
@@ -434,7 +434,7 @@ fn row_text(row: &Row) -> String {
         ("never", _, _) => "never wedges".to_string(),
         // As many digits as the bracket certifies (`critical`'s answer line).
         (_, Some(mu), _) => format!("mu* = {}", mu_text(mu, row.lower)),
-        (_, None, Some(upper)) => format!("incomplete, mu* <= {}", sig4(upper)),
+        (_, None, Some(upper)) => format!("incomplete, mu* <= {}", upper_text(upper)),
         _ => "incomplete, nothing found".to_string(),
     };
     format!("m = {}{h}: {answer} ({:.2} s)", row.m, row.seconds)

@@ -313,9 +313,14 @@ fn merge_critical(read: &[Read], missing: &[usize]) -> Result<Merged, String> {
         },
     );
     doc.remove("shard");
+    // As `critical` prints them: to the digits the bracket certifies (the JSON keeps every
+    // digit).
     let bracket = match (lower, upper) {
-        (Some(l), Some(u)) => format!("mu* in [{l}, {u}]"),
-        (None, Some(u)) => format!("mu* at most {u}"),
+        (Some(l), Some(u)) => {
+            let (mu, lo, up) = crate::report::critical::bracket_text(l, u);
+            format!("mu* = {mu} (certified bracket [{lo}, {up}])")
+        }
+        (None, Some(u)) => format!("mu* <= {}", crate::report::critical::upper_text(u)),
         _ => "no bracket".to_string(),
     };
     let summary = format!(
