@@ -22,7 +22,8 @@ use wedged::{CriticalMethod, CriticalSettings, CriticalStatus, Problem, Stop};
 use crate::input::problem_file;
 use crate::input::start::Earlier;
 use crate::jobs::{run_critical_library, Failure, Show};
-use crate::report::critical::{mu_text, upper_text};
+use crate::report::critical::mu_text;
+use crate::report::upper_text;
 use crate::study;
 
 /// 2D problems of this many contact nodes or more start from the same body with half the

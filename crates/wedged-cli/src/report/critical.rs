@@ -312,12 +312,6 @@ pub fn answer_line(result: &Critical, tol: f64) -> Option<String> {
     }
 }
 
-/// An upper end of `mu*` alone (an incomplete run's checked witness), to ten digits rounded up:
-/// `mu* <= X` must hold as printed.
-pub fn upper_text(upper: f64) -> String {
-    bound(upper, 10, Round::Up)
-}
-
 /// What an incomplete run proved of `mu*`, as one phrase: the summary's `INCOMPLETE` line and
 /// the `incomplete:` line on stderr both say it.
 pub fn incomplete_bracket(result: &Critical) -> String {
@@ -330,7 +324,7 @@ pub fn incomplete_bracket(result: &Critical) -> String {
         ),
         (None, Some(upper)) => format!(
             "mu* <= {} (a checked wedged configuration there), but nothing below it is certified",
-            upper_text(upper)
+            super::upper_text(upper)
         ),
         (Some(lower), None) => format!(
             "no wedged configuration found yet; mu* > {} (every contact set refuted there by the \
@@ -743,9 +737,6 @@ mod tests {
         assert_eq!(bound(1.788_243_05, 8, Round::Up), "1.7882431");
         assert_eq!(bound(1.788_241_37, 8, Round::Down), "1.7882413");
         assert_eq!(bound(1.0, 11, Round::Up), "1");
-        // An upper end alone (merge, study and the coarser meshes' lines): rounded up, where
-        // nine decimals to the nearest had printed 1.697351394, below the end.
-        assert_eq!(upper_text(1.697_351_394_444_804_7), "1.697351395");
         assert_eq!(bound(0.5, 11, Round::Down), "0.5");
         assert_eq!(bound(0.999_999_999, 11, Round::Down), "0.999999999");
         assert_eq!(bound(0.999_999_75, 8, Round::Down), "0.99999975");

@@ -320,7 +320,7 @@ fn merge_critical(read: &[Read], missing: &[usize]) -> Result<Merged, String> {
             let (mu, lo, up) = crate::report::critical::bracket_text(l, u);
             format!("mu* = {mu} (certified bracket [{lo}, {up}])")
         }
-        (None, Some(u)) => format!("mu* <= {}", crate::report::critical::upper_text(u)),
+        (None, Some(u)) => format!("mu* <= {}", crate::report::upper_text(u)),
         _ => "no bracket".to_string(),
     };
     let summary = format!(

@@ -35,11 +35,28 @@ pub fn sig4(v: f64) -> String {
     }
 }
 
+/// An upper end of `mu*` alone (an incomplete run's checked witness), to ten digits rounded up
+/// ([`critical::bound`]): `mu* <= X` must hold as printed.
+pub fn upper_text(upper: f64) -> String {
+    critical::bound(upper, 10, critical::Round::Up)
+}
+
 /// Strips trailing zeros of a decimal number's fraction.
 pub fn trim_zeros(s: &str) -> String {
     if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.').to_string()
     } else {
         s.to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// An upper end alone (merge, study and the coarser meshes' lines) is rounded up, where
+    /// nine decimals to the nearest had printed 1.697351394, below the end it stands for.
+    #[test]
+    fn an_upper_end_is_rounded_up() {
+        assert_eq!(super::upper_text(1.697_351_394_444_804_7), "1.697351395");
+        assert_eq!(super::upper_text(2.0), "2");
     }
 }
