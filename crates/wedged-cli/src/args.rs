@@ -273,7 +273,8 @@ pub(crate) struct EnumerateArgs {
     /// the search is decided, in the order found, so memory does not grow with the number of
     /// pieces; the other pattern methods write theirs at the end. The summary and --json then
     /// give the count, not the pieces. A run that stops early has written the pieces found so
-    /// far. Not with a ray method, --vtk, --svg or --shard.
+    /// far. `-` streams to stdout, which then holds the lines only (no summary). Not with a ray
+    /// method, --vtk, --svg or --shard.
     #[arg(long, value_name = "OUT.jsonl")]
     pub(crate) jsonl: Option<PathBuf>,
     /// For a meshed body: write one ParaView file per wedged cone, DIR/cone-N.vtu, or with a

@@ -77,6 +77,38 @@ fn a_3d_mesh_streams_the_pieces_of_bnb() {
     streams_the_pieces_of_json(&example("plug3d.toml"), &[], "bnb");
 }
 
+/// `--jsonl -` streams to stdout, which then holds the pieces' lines only (the same as the
+/// file's; it had written a file named `-`); a reader that stops early is no failure.
+#[test]
+fn the_pieces_stream_to_stdout() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("pieces.jsonl");
+    let problem = example("plug3d.toml");
+    assert_code(
+        &wedged(&["enumerate", &problem, "--jsonl", file.to_str().unwrap()]),
+        0,
+    );
+    let out = wedged(&["enumerate", &problem, "--jsonl", "-"]);
+    assert_code(&out, 0);
+    let piped: Vec<Value> = text(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("each line of stdout is one JSON object"))
+        .collect();
+    assert!(!piped.is_empty());
+    assert_eq!(sorted(piped), sorted(lines(&file)));
+    assert!(!Path::new("-").exists());
+    // Both to stdout, or both to one file: refused.
+    assert_bad_input(
+        &wedged(&["enumerate", &problem, "--jsonl", "-", "--json", "-"]),
+        &["--json -", "--jsonl -", "stdout"],
+    );
+    let f = file.to_str().unwrap();
+    assert_bad_input(
+        &wedged(&["enumerate", &problem, "--jsonl", f, "--json", f]),
+        &["--json and --jsonl name the same file"],
+    );
+}
+
 /// A run stopped by its time limit: exit 3, and the file holds exactly the pieces the summary
 /// counts, each one whole.
 #[test]

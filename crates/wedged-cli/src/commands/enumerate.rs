@@ -55,6 +55,19 @@ pub(crate) fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
             }
         }
     }
+    if let (Some(lines), Some(json)) = (&args.jsonl, &args.json.json) {
+        if JsonLines::is_stdout(lines) && JsonTarget::is_stdout(json) {
+            return Err(Failure::Input(
+                "--json - and --jsonl - would both write to stdout: give one of them a file".into(),
+            ));
+        }
+        if same_file(lines, json) {
+            return Err(Failure::Input(format!(
+                "--json and --jsonl name the same file, {}: give them two",
+                json.display()
+            )));
+        }
+    }
     if args.jsonl.is_some() {
         for (given, option) in [(args.vtk.is_some(), "--vtk"), (args.svg.is_some(), "--svg")] {
             if given {
@@ -161,6 +174,8 @@ pub(crate) fn report(
     let mut stdout_text = String::new();
     match (&json, &json_text) {
         (Some(JsonTarget::Stdout), Some(text)) => stdout_text.push_str(text),
+        // `--jsonl -`: stdout holds the pieces' lines only (as `--json -` holds its JSON).
+        _ if jsonl.is_some_and(JsonLines::is_stdout) => {}
         _ => {
             if let Some(p) = preface {
                 stdout_text.push_str(p);
@@ -236,4 +251,13 @@ pub(crate) fn incomplete_text(
             }
         ),
     }
+}
+
+/// Whether two output paths name the same file (as given, or once made absolute).
+fn same_file(a: &Path, b: &Path) -> bool {
+    a == b
+        || matches!(
+            (std::path::absolute(a), std::path::absolute(b)),
+            (Ok(x), Ok(y)) if x == y
+        )
 }

@@ -29,9 +29,14 @@ impl fmt::Display for WriteError {
 impl std::error::Error for WriteError {}
 
 impl JsonTarget {
+    /// Whether `path` names stdout (`-`).
+    pub fn is_stdout(path: &Path) -> bool {
+        path == Path::new("-")
+    }
+
     /// `-` is stdout; anything else a file, whose temporary sibling is created now.
     pub fn open(path: &Path) -> Result<JsonTarget, WriteError> {
-        if path == Path::new("-") {
+        if JsonTarget::is_stdout(path) {
             return Ok(JsonTarget::Stdout);
         }
         let fail = |e: io::Error| {
@@ -91,17 +96,37 @@ fn temp_beside(path: &Path) -> io::Result<NamedTempFile> {
 
 /// The file of `--jsonl`: one line per piece, appended and flushed as each is found (from any
 /// thread), so that it holds every piece found so far whatever stops the run. It is written in
-/// place, not atomically: a reader may watch it grow. A write that fails is remembered and the
-/// rest are skipped; [`JsonLines::finish`] reports it.
-#[derive(Debug)]
+/// place, not atomically: a reader may watch it grow. `-` is stdout (a pipe's reader gets each
+/// piece as it is found). A write that fails is remembered and the rest are skipped;
+/// [`JsonLines::finish`] reports it.
 pub struct JsonLines {
     path: PathBuf,
-    state: std::sync::Mutex<(io::BufWriter<std::fs::File>, Option<io::Error>)>,
+    /// The file, `None` for stdout.
+    state: std::sync::Mutex<(Box<dyn Write + Send>, Option<io::Error>)>,
+    file: Option<std::fs::File>,
+}
+
+impl std::fmt::Debug for JsonLines {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "JsonLines({})", self.path.display())
+    }
 }
 
 impl JsonLines {
-    /// Creates (or truncates) the file now, before the run.
+    /// Whether `path` names stdout (`-`).
+    pub fn is_stdout(path: &Path) -> bool {
+        path == Path::new("-")
+    }
+
+    /// Creates (or truncates) the file now, before the run; `-` writes to stdout.
     pub fn create(path: &Path) -> Result<JsonLines, WriteError> {
+        if JsonLines::is_stdout(path) {
+            return Ok(JsonLines {
+                path: path.to_path_buf(),
+                state: std::sync::Mutex::new((Box::new(io::stdout()), None)),
+                file: None,
+            });
+        }
         if path.is_dir() {
             return Err(WriteError(format!(
                 "{}: is a directory, not a file name for --jsonl",
@@ -114,9 +139,16 @@ impl JsonLines {
                 path.display()
             ))
         })?;
+        let sync = file.try_clone().map_err(|e| {
+            WriteError(format!(
+                "{}: cannot write the --jsonl file: {e}",
+                path.display()
+            ))
+        })?;
         Ok(JsonLines {
             path: path.to_path_buf(),
-            state: std::sync::Mutex::new((io::BufWriter::new(file), None)),
+            state: std::sync::Mutex::new((Box::new(io::BufWriter::new(file)), None)),
+            file: Some(sync),
         })
     }
 
@@ -148,11 +180,19 @@ impl JsonLines {
                 self.path.display()
             ))
         };
+        // A reader of stdout that stops reading (`| head`) is no failure, as for the summary.
+        let closed = |e: &io::Error| self.file.is_none() && e.kind() == io::ErrorKind::BrokenPipe;
         if let Some(e) = error {
-            return Err(fail(e));
+            return if closed(&e) { Ok(()) } else { Err(fail(e)) };
         }
-        writer.flush().map_err(fail)?;
-        writer.get_ref().sync_all().map_err(fail)
+        match writer.flush() {
+            Err(e) if !closed(&e) => return Err(fail(e)),
+            _ => {}
+        }
+        match &self.file {
+            Some(file) => file.sync_all().map_err(fail),
+            None => Ok(()),
+        }
     }
 }
 
