@@ -1316,6 +1316,50 @@ fn critical_stopped_by_the_time_limit_is_marked_incomplete() {
     );
 }
 
+/// `-` is stdout for `--json`, `--jsonl` and `condense --mtx` (the matrix alone, as the file
+/// holds it); every other output refuses it, where each had written a file or a directory
+/// named `-` in the working directory.
+#[test]
+fn a_dash_is_stdout_for_the_file_outputs_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let problem = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/plug2d.toml")
+        .display()
+        .to_string();
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_wedged"))
+            .args(args)
+            .current_dir(dir.path())
+            .output()
+            .expect("the binary runs")
+    };
+    let file = path_in(&dir, "k.mtx");
+    assert_eq!(
+        run(&["condense", &problem, "--mtx", &file]).status.code(),
+        Some(0)
+    );
+    let out = run(&["condense", &problem, "--mtx", "-"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(stdout(&out), fs::read_to_string(&file).unwrap());
+    for args in [
+        &["enumerate", &problem, "--svg", "-"][..],
+        &["enumerate", &problem, "--vtk", "-"],
+        &["sweep", &problem, "--svg", "-"],
+        &["sweep", &problem, "--svg", "s.svg", "--vtk", "-"],
+        &["study", &problem, "--vary", "mu=1", "--out", "-"],
+        &["demo", "--out", "-"],
+    ] {
+        let out = run(args);
+        assert_bad_input(&out, &["-: "]);
+        assert!(
+            stderr(&out).contains("stdout"),
+            "{args:?}: {}",
+            stderr(&out)
+        );
+    }
+    assert!(!dir.path().join("-").exists());
+}
+
 /// A run stopped by its time limit names the limit given, also where a part of the run was
 /// handed what was left of it: the fine mesh after its coarser ones (`critical` on a generated
 /// body of 80 contact nodes), the enumeration of `--method enumerate` (both said "0 s", or

@@ -11,6 +11,14 @@ pub(crate) fn run_condense(args: CondenseArgs) -> Result<(), Failure> {
     let model =
         problem_file::load_model(&args.problem).map_err(|e| Failure::Input(e.to_string()))?;
     let mut text = summary::model(&source, &model);
+    // `--mtx -`: stdout holds the matrix only (as `--json -` holds its JSON).
+    if args
+        .mtx
+        .as_deref()
+        .is_some_and(files::JsonTarget::is_stdout)
+    {
+        return write_stdout(&mtx::write_condensed(&model, &source));
+    }
     if let Some(path) = &args.mtx {
         let bytes = mtx::write_condensed(&model, &source);
         files::write_atomic(path, bytes.as_bytes(), "Matrix Market file")

@@ -148,10 +148,7 @@ const SERIES_COLLECTION: &str = "sweep.pvd";
 /// `sweep.pvd`, so that it holds exactly this run's series.
 fn prepare_series_dir(dir: &Path) -> Result<(), Failure> {
     let fail = |what: String| Failure::Input(format!("{}: {what}", dir.display()));
-    if dir.exists() && !dir.is_dir() {
-        return Err(fail("--vtk needs a directory, and this is a file".into()));
-    }
-    std::fs::create_dir_all(dir).map_err(|e| fail(format!("cannot create the directory: {e}")))?;
+    crate::report::files::create_output_dir(dir, "--vtk").map_err(Failure::Input)?;
     let entries =
         std::fs::read_dir(dir).map_err(|e| fail(format!("cannot read the directory: {e}")))?;
     for entry in entries.flatten() {

@@ -1,6 +1,5 @@
 //! `wedged demo`: the built-in plug, end to end.
 
-use std::fs;
 use wedged::{CriticalSettings, CriticalStatus, Settings};
 
 use super::*;
@@ -44,12 +43,7 @@ pub(crate) fn run_demo(args: DemoArgs) -> Result<(), Failure> {
     } else {
         Choice::Rays(Settings::default())
     };
-    fs::create_dir_all(dir).map_err(|e| {
-        Failure::Input(format!(
-            "{}: cannot create the demo directory: {e}",
-            dir.display()
-        ))
-    })?;
+    crate::report::files::create_output_dir(dir, "--out").map_err(Failure::Input)?;
     let json = dir.join("result.json");
     report(
         &problem,

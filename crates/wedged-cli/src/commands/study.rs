@@ -58,18 +58,7 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
         }
     };
     let dir = &args.out;
-    if dir.exists() && !dir.is_dir() {
-        return Err(input(format!(
-            "{}: --out needs a directory, and this is a file",
-            dir.display()
-        )));
-    }
-    std::fs::create_dir_all(dir).map_err(|e| {
-        input(format!(
-            "{}: cannot create the output directory: {e}",
-            dir.display()
-        ))
-    })?;
+    crate::report::files::create_output_dir(dir, "--out").map_err(input)?;
     let csv_path = dir.join(CSV);
     let mut earlier: BTreeMap<Vec<String>, Row> = match std::fs::read_to_string(&csv_path) {
         Ok(text) => study::read_csv(&text, &parameters)

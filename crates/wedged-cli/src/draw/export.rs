@@ -28,18 +28,7 @@ use crate::report::files::write_atomic;
 /// `pattern-N.<extension>` files of an earlier run, and with them its collection file, so that
 /// the directory holds exactly this run's pieces. Called before the run, so that an unusable directory fails early.
 pub fn prepare_dir(dir: &Path, option: &str, extension: &str) -> Result<(), String> {
-    if dir.exists() && !dir.is_dir() {
-        return Err(format!(
-            "{}: {option} needs a directory, and this is a file",
-            dir.display()
-        ));
-    }
-    fs::create_dir_all(dir).map_err(|e| {
-        format!(
-            "{}: cannot create the {option} directory: {e}",
-            dir.display()
-        )
-    })?;
+    crate::report::files::create_output_dir(dir, option)?;
     let entries = fs::read_dir(dir)
         .map_err(|e| format!("{}: cannot read the {option} directory: {e}", dir.display()))?;
     for entry in entries.flatten() {

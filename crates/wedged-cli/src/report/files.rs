@@ -209,6 +209,7 @@ pub struct PendingFile {
 impl PendingFile {
     /// `what` names the file in errors ("SVG file").
     pub fn open(path: &Path, what: &'static str) -> Result<PendingFile, WriteError> {
+        not_stdout(path, what)?;
         if path.is_dir() {
             return Err(WriteError(format!(
                 "{}: is a directory, not a file name for the {what}",
@@ -247,6 +248,7 @@ impl PendingFile {
 /// Writes `bytes` to `path` through a temporary sibling renamed into place, so that a reader
 /// never sees a half-written file. `what` names the file in errors ("VTU file").
 pub fn write_atomic(path: &Path, bytes: &[u8], what: &str) -> Result<(), WriteError> {
+    not_stdout(path, what)?;
     let fail =
         |e: io::Error| WriteError(format!("{}: cannot write the {what}: {e}", path.display()));
     let mut temp = temp_beside(path).map_err(fail)?;
@@ -254,4 +256,39 @@ pub fn write_atomic(path: &Path, bytes: &[u8], what: &str) -> Result<(), WriteEr
     temp.as_file().sync_all().map_err(fail)?;
     temp.persist(path).map_err(|e| fail(e.error))?;
     Ok(())
+}
+
+/// `-` names stdout for `--json`, `--jsonl` and `condense --mtx` only; another file given as
+/// `-` is refused rather than written to a file of that name in the working directory.
+fn not_stdout(path: &Path, what: &str) -> Result<(), WriteError> {
+    if JsonTarget::is_stdout(path) {
+        Err(WriteError(format!(
+            "-: the {what} goes to a file, not to stdout: give its name"
+        )))
+    } else {
+        Ok(())
+    }
+}
+
+/// Creates the output directory of `option` (and its parents). `-` (stdout, for the file
+/// options) and an existing file are refused.
+pub fn create_output_dir(dir: &Path, option: &str) -> Result<(), String> {
+    if JsonTarget::is_stdout(dir) {
+        return Err(format!(
+            "-: {option} needs a directory name (- is stdout for --json, --jsonl and condense \
+             --mtx only)"
+        ));
+    }
+    if dir.exists() && !dir.is_dir() {
+        return Err(format!(
+            "{}: {option} needs a directory, and this is a file",
+            dir.display()
+        ));
+    }
+    std::fs::create_dir_all(dir).map_err(|e| {
+        format!(
+            "{}: cannot create the {option} directory: {e}",
+            dir.display()
+        )
+    })
 }
