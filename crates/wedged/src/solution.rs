@@ -72,6 +72,15 @@ impl ContactPattern {
         }
     }
 
+    /// The pattern of a node of this status: separated, grazing, or (pressed) contact.
+    pub fn of(status: NodeStatus) -> ContactPattern {
+        match status {
+            NodeStatus::Separated => ContactPattern::Separated,
+            NodeStatus::Grazing => ContactPattern::Grazing,
+            _ => ContactPattern::Contact,
+        }
+    }
+
     /// The pattern of a [`ContactPattern::name`].
     pub fn from_name(name: &str) -> Option<ContactPattern> {
         [

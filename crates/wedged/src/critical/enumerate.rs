@@ -18,7 +18,7 @@ use super::{CriticalInfo, CriticalProgress, Ctx, Found, PatternThreshold};
 use crate::patterns::{enumerate_patterns_with_control, PatternSettings, Undecided};
 use crate::rays::{enumerate_with_control, Method, Settings};
 use crate::run::{Control, EnumerateError, Limits, Outcome, Stop};
-use crate::solution::{ContactPattern, NodeStatus};
+use crate::solution::ContactPattern;
 
 /// How many times the enumeration's `mu` may double before the branch and bound takes over.
 const MAX_DOUBLINGS: usize = 10;
@@ -76,11 +76,7 @@ pub(super) fn run(
                         let q = e
                             .cone_status(c)
                             .iter()
-                            .map(|s| match s {
-                                NodeStatus::Separated => ContactPattern::Separated,
-                                NodeStatus::Grazing => ContactPattern::Grazing,
-                                _ => ContactPattern::Contact,
-                            })
+                            .map(|&s| ContactPattern::of(s))
                             .collect();
                         (q, e.cone_centroid(c).1)
                     })

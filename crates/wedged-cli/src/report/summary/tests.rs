@@ -76,14 +76,7 @@ fn undecided_run() -> (Problem, Patterns) {
     status[1] = NodeStatus::Slip;
     status[2] = NodeStatus::Separated;
     status[11] = NodeStatus::Grazing;
-    let pattern = status
-        .iter()
-        .map(|s| match s {
-            NodeStatus::Separated => ContactPattern::Separated,
-            NodeStatus::Grazing => ContactPattern::Grazing,
-            _ => ContactPattern::Contact,
-        })
-        .collect();
+    let pattern = status.iter().map(|&s| ContactPattern::of(s)).collect();
     let mut u = vec![0.0; 3 * m];
     u[6] = 0.25;
     let result = Patterns {
