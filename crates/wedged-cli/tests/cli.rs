@@ -1676,8 +1676,8 @@ fn an_internal_failure_exits_1_and_says_it_is_a_bug() {
 
 /// `critical --start`: a coarser mesh's answer of the same body, mapped by position, starts the
 /// finer mesh's search (no dive) and leaves its bracket as it was; an earlier result of the same
-/// problem too; a missing file, a file that is not JSON, and a result without a witness are bad
-/// input.
+/// problem too; a missing file, a file that is not JSON, a result without a witness and one of
+/// another dimension are bad input.
 #[test]
 fn critical_starts_from_a_coarser_meshs_answer() {
     let with_size = |nx: usize, ny: usize| -> String {
@@ -1730,6 +1730,21 @@ fn critical_starts_from_a_coarser_meshs_answer() {
     assert_bad_input(
         &wedged(&["critical", &fine, "--start", &path_in(&dir, "nothing.json")]),
         &["nothing.json", "no witness pattern"],
+    );
+    // A 2D body's answer for a 3D body (it had said that the start has no node in contact).
+    let plug3d = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plug3d.toml");
+    assert_bad_input(
+        &wedged(&[
+            "critical",
+            plug3d.to_str().unwrap(),
+            "--start",
+            &coarse_json,
+        ]),
+        &[
+            "coarse.json",
+            "the result of a 2D body",
+            "this problem's is 3D",
+        ],
     );
 }
 

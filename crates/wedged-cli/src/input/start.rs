@@ -87,6 +87,13 @@ impl Earlier {
         let pattern = &self.pattern;
         match (&self.nodes, model) {
             (Some(earlier), Some(model)) if earlier.len() == pattern.len() => {
+                let dim = model.mesh().dim();
+                if let Some((x, _)) = earlier.iter().find(|(x, _)| x.len() != dim) {
+                    return Err(format!(
+                        "{place} is the result of a {}D body, and this problem's is {dim}D",
+                        x.len()
+                    ));
+                }
                 let mapped: Vec<bool> = contact_nodes(model)
                     .iter()
                     .map(|(x, n)| nearest(earlier, x, n).is_some_and(|k| pattern[k]))
