@@ -259,6 +259,28 @@ pub fn plan_enumerate(
             )));
         }
     }
+    // `--max-rays` and `--max-memory` bound a double description's store of rays; a method
+    // without one would run unbounded while the user believes it bounded.
+    let holds_rays = matches!(
+        method,
+        MethodArg::Rays(Method::PrunedDd | Method::FullDd | Method::Faces | Method::Exact)
+            | MethodArg::Patterns(PatternMethod::Pyramid { .. })
+    );
+    if !holds_rays {
+        for (given, option) in [
+            (options.max_rays.is_some(), "--max-rays"),
+            (options.max_memory.is_some(), "--max-memory"),
+        ] {
+            if given {
+                return Err(Failure::Input(format!(
+                    "{option} bounds the store of rays of a double description (pruned-dd, \
+                     full-dd, faces, exact, pyramid); --method {} has no such bound: limit its \
+                     run with --time-limit",
+                    method.name()
+                )));
+            }
+        }
+    }
     if faces.is_some() && !matches!(method, MethodArg::Patterns(PatternMethod::Pyramid { .. })) {
         return Err(Failure::Input(format!(
             "--pyramid-faces is used by --method pyramid only, and the method is {}",

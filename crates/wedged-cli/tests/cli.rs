@@ -993,6 +993,31 @@ fn max_rays_stops_the_run() {
     ]));
     assert_eq!(report["complete"], true);
     assert_eq!(report["stopped"], Value::Null);
+    // A method without a store of rays refuses the bound rather than running unbounded
+    // (the 2D search and pattern-search, 3D bnb had ignored it); pyramid honours it.
+    let plug3d = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plug3d.toml");
+    let plug3d = plug3d.to_str().unwrap();
+    let array = fixture("coupled_array.toml");
+    for (problem, method, option) in [
+        (array.as_str(), "search", "--max-rays"),
+        (array.as_str(), "pattern-search", "--max-memory"),
+        (plug3d, "bnb", "--max-rays"),
+    ] {
+        let out = wedged(&["enumerate", problem, "--method", method, option, "1000"]);
+        assert_bad_input(
+            &out,
+            &[option, &format!("--method {method} has no such bound")],
+        );
+    }
+    let out = wedged(&[
+        "enumerate",
+        plug3d,
+        "--method",
+        "pyramid",
+        "--max-rays",
+        "3",
+    ]);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
 }
 
 #[test]
