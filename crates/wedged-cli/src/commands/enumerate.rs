@@ -56,7 +56,7 @@ pub(crate) fn run_enumerate(args: EnumerateArgs) -> Result<(), Failure> {
         }
     }
     if let (Some(lines), Some(json)) = (&args.jsonl, &args.json.json) {
-        if JsonLines::is_stdout(lines) && JsonTarget::is_stdout(json) {
+        if JsonTarget::is_stdout(lines) && JsonTarget::is_stdout(json) {
             return Err(Failure::Input(
                 "--json - and --jsonl - would both write to stdout: give one of them a file".into(),
             ));
@@ -175,7 +175,7 @@ pub(crate) fn report(
     match (&json, &json_text) {
         (Some(JsonTarget::Stdout), Some(text)) => stdout_text.push_str(text),
         // `--jsonl -`: stdout holds the pieces' lines only (as `--json -` holds its JSON).
-        _ if jsonl.is_some_and(JsonLines::is_stdout) => {}
+        _ if jsonl.is_some_and(JsonTarget::is_stdout) => {}
         _ => {
             if let Some(p) = preface {
                 stdout_text.push_str(p);

@@ -29,7 +29,7 @@ impl fmt::Display for WriteError {
 impl std::error::Error for WriteError {}
 
 impl JsonTarget {
-    /// Whether `path` names stdout (`-`).
+    /// Whether `path` names stdout (`-`): for `--json`, `--jsonl` and `condense --mtx`.
     pub fn is_stdout(path: &Path) -> bool {
         path == Path::new("-")
     }
@@ -101,8 +101,9 @@ fn temp_beside(path: &Path) -> io::Result<NamedTempFile> {
 /// [`JsonLines::finish`] reports it.
 pub struct JsonLines {
     path: PathBuf,
-    /// The file, `None` for stdout.
+    /// The writer (the file's, or stdout) and its first failure.
     state: std::sync::Mutex<(Box<dyn Write + Send>, Option<io::Error>)>,
+    /// The file, to sync at the end; `None` for stdout.
     file: Option<std::fs::File>,
 }
 
@@ -113,14 +114,9 @@ impl std::fmt::Debug for JsonLines {
 }
 
 impl JsonLines {
-    /// Whether `path` names stdout (`-`).
-    pub fn is_stdout(path: &Path) -> bool {
-        path == Path::new("-")
-    }
-
     /// Creates (or truncates) the file now, before the run; `-` writes to stdout.
     pub fn create(path: &Path) -> Result<JsonLines, WriteError> {
-        if JsonLines::is_stdout(path) {
+        if JsonTarget::is_stdout(path) {
             return Ok(JsonLines {
                 path: path.to_path_buf(),
                 state: std::sync::Mutex::new((Box::new(io::stdout()), None)),
