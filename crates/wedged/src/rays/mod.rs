@@ -79,7 +79,8 @@ pub fn enumerate_with_control(
         return Err(EnumerateError::InvalidSettings(format!(
             "mu = {} is above {RAYS_MU_MAX:e}, the largest friction coefficient the \
              floating-point ray methods resolve (a slipping node's r_t is mu times its \
-             pressure); use --exact, or --method pattern-search",
+             pressure); use --exact (up to about 10 nodes), or --method pattern-search \
+             (which names the contact sets it cannot decide)",
             problem.mu()
         )));
     }
