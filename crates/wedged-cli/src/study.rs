@@ -273,12 +273,12 @@ fn key_hint(table: &Table, key: &str) -> String {
     let mut known = Vec::new();
     number_keys(table, "", &mut known);
     let last = key.rsplit('.').next().unwrap_or(key);
-    let like: Vec<&String> = known
+    let like: Vec<&str> = known
         .iter()
+        .map(String::as_str)
         .filter(|k| k.rsplit('.').next() == Some(last))
         .collect();
     if !like.is_empty() {
-        let like: Vec<&str> = like.iter().map(|k| k.as_str()).collect();
         format!("did you mean {}?", like.join(" or "))
     } else {
         format!("the numbers it sets: {}", known.join(", "))

@@ -30,11 +30,8 @@ pub fn maximal_cliques(n: usize, adjacent: impl Fn(usize, usize) -> bool) -> Vec
             }
         }
     }
-    let order = Graph {
-        words,
-        nbr: nbr.clone(),
-    }
-    .degeneracy_order();
+    let given = Graph { words, nbr };
+    let order = given.degeneracy_order();
     // The graph relabelled by position in the order.
     let mut position = vec![0; n];
     for (k, &v) in order.iter().enumerate() {
@@ -43,7 +40,7 @@ pub fn maximal_cliques(n: usize, adjacent: impl Fn(usize, usize) -> bool) -> Vec
     let mut sorted = vec![0u64; n * words];
     for v in 0..n {
         let k = position[v];
-        for w in ones(&nbr[v * words..(v + 1) * words]) {
+        for w in ones(given.row(v)) {
             let l = position[w];
             sorted[k * words + l / 64] |= 1 << (l % 64);
         }

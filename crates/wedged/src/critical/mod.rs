@@ -718,9 +718,8 @@ impl Ctx<'_, '_> {
                             (hi, r) = (t, q);
                         }
                     }
-                    let below = shares_below(self.tol).map(|g| hi * (1.0 - g));
-                    let refuted = below
-                        .into_iter()
+                    let refuted = shares_below(self.tol)
+                        .map(|g| hi * (1.0 - g))
                         .find_map(|at| Some((at, p.refute(self.form, contact, at)?)));
                     if let Some((at, f)) = refuted {
                         self.form.keep(f);
