@@ -98,9 +98,9 @@ def displacement(u_local: np.ndarray, recovery: dict) -> np.ndarray:
     return u[recovery["basis"].nodal_dofs]
 
 
-def write_msh(n: int, path: Path, mu: float) -> Path:
-    """The same mesh as Gmsh MSH 4.1 with groups `body`, `contact`, `top`, and a problem file
-    for the command beside it; returns the problem file."""
+def write_msh(n: int, path: Path, mu: float, version: str = "4.1", binary: bool = False) -> Path:
+    """The same mesh as Gmsh MSH `version` ("4.1" or the legacy "2.2") with groups `body`,
+    `contact`, `top`, and a problem file for the command beside it; returns the problem file."""
     import meshio
 
     mesh, left, right, top = plug_mesh(n)
@@ -124,7 +124,8 @@ def write_msh(n: int, path: Path, mu: float) -> Path:
         cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags},
         field_data={"body": np.array([1, 2]), "contact": np.array([2, 1]), "top": np.array([3, 1])},
     )
-    meshio.write(path, msh, file_format="gmsh", binary=False)
+    file_format = {"4.1": "gmsh", "2.2": "gmsh22"}[version]
+    meshio.write(path, msh, file_format=file_format, binary=binary)
     toml = path.with_suffix(".toml")
     toml.write_text(
         f"""# The scikit-fem plug of examples/python/skfem_plug.py, for the command.

@@ -6,12 +6,16 @@ Writes into crates/wedged-cli/tests/fixtures/msh/ (relative to the repository ro
   plug2d_quad.msh      trapezoid (-0.5,0) (0.5,0) (1,1) (-1,1), transfinite 6 x 4 quadrilaterals,
                        ASCII MSH 4.1; groups bottom, top, left, right, contact (= left + right), body
   plug2d_quad_bin.msh  the same mesh, binary MSH 4.1
+  plug2d_quad_22.msh   the same mesh, ASCII MSH 2.2 (an element of two physical groups, as
+                       the contact group's, is written once per group)
+  plug2d_quad_22_bin.msh  the same mesh, binary MSH 2.2
   plug2d_tri.msh       the same trapezoid, unstructured 3-node triangles (size 0.25), same groups
   box3d_tet.msh        unit cube, 4-node tetrahedra (size 0.5); groups bottom (z=0), top (z=1),
                        sides, body
+  box3d_tet_22.msh     box3d_tet.msh as ASCII MSH 2.2
   box3d_hex.msh        unit cube, transfinite 2 x 2 x 2 hexahedra, same groups
   second_order.msh     unit square, 6-node (second-order) triangles: an unsupported element type
-  msh22.msh            unit square, 3-node triangles, saved as MSH 2.2: an unsupported version
+  msh22.msh            unit square, 3-node triangles, saved as MSH 2.2
   truncated.msh        plug2d_quad.msh cut in the middle of its $Nodes section
   garbage.msh          a text file that is not a mesh
 
@@ -88,6 +92,8 @@ def plug2d_quad():
     mesh.generate(2)
     save("plug2d_quad.msh")
     save("plug2d_quad_bin.msh", binary=True)
+    save("plug2d_quad_22.msh", version=2.2)
+    save("plug2d_quad_22_bin.msh", version=2.2, binary=True)
     gmsh.finalize()
 
 
@@ -137,6 +143,7 @@ def box3d_tet():
     box_groups(volume, bottom, top, sides)
     gmsh.model.mesh.generate(3)
     save("box3d_tet.msh")
+    save("box3d_tet_22.msh", version=2.2)
     gmsh.finalize()
 
 

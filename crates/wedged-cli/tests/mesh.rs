@@ -214,8 +214,14 @@ fn rays_by_position(report: &Value) -> Vec<Vec<NodeValue>> {
 #[test]
 fn a_gmsh_mesh_of_the_plug_gives_the_generators_answer() {
     // tests/fixtures/msh/plug2d_quad.msh was written by Gmsh 4.15 (tools/gmsh/make_fixtures.py)
-    // for the same trapezoid with the same nodes as `nx = 6, ny = 4`, numbered differently.
-    for file in ["plug2d_quad.msh", "plug2d_quad_bin.msh"] {
+    // for the same trapezoid with the same nodes as `nx = 6, ny = 4`, numbered differently,
+    // and saved as MSH 4.1 and the legacy 2.2, ASCII and binary.
+    for file in [
+        "plug2d_quad.msh",
+        "plug2d_quad_bin.msh",
+        "plug2d_quad_22.msh",
+        "plug2d_quad_22_bin.msh",
+    ] {
         let dir = tempfile::tempdir().unwrap();
         let generated = write(&dir, "gen.toml", PLUG);
         let from_gmsh = write(

@@ -58,6 +58,30 @@ def test_python_and_the_command_agree_on_the_same_mesh(tmp_path, n):
     assert pieces_by_place(ours.patterns, ours_at) == pieces_by_place(theirs["patterns"], theirs_at)
 
 
+@pytest.mark.parametrize("binary", [False, True])
+def test_meshios_msh22_reads_as_its_msh41(tmp_path, binary):
+    """The legacy MSH 2.2 (meshio's writer, ASCII and binary) gives the MSH 4.1 file's mesh
+    and mu*, in the command and in Python."""
+    plug = example()
+    new = plug.write_msh(6, tmp_path / "new.msh", 2.0)
+    old = plug.write_msh(6, tmp_path / "old.msh", 2.0, version="2.2", binary=binary)
+    assert (tmp_path / "old.msh").read_bytes().startswith(b"$MeshFormat\n2.2 " + (b"1" if binary else b"0"))
+    # meshio's MSH 4.1 writer numbers the nodes entity by entity, its 2.2 writer as given: the
+    # same places, in another order.
+    a, b = wedged.load(new).mesh(), wedged.load(old).mesh()
+    assert sorted(places(a["points"], range(len(a["points"])))) == sorted(
+        places(b["points"], range(len(b["points"])))
+    )
+    assert sorted(places(a["points"], a["contact_nodes"])) == sorted(
+        places(b["points"], b["contact_nodes"])
+    )
+    assert len(a["contact_nodes"]) == 12
+    c_new, c_old = cli_json("critical", str(new)), cli_json("critical", str(old))
+    assert c_new["status"] == c_old["status"] == "wedged"
+    assert abs(c_new["mu_critical"] - c_old["mu_critical"]) <= 1e-9 * c_new["mu_critical"]
+    assert wedged.load(old).critical().mu == pytest.approx(c_old["mu_critical"], rel=1e-12)
+
+
 def test_the_example_runs(tmp_path, monkeypatch, capsys):
     plug = example()
     png = tmp_path / "plug.png"

@@ -1,5 +1,5 @@
 //! The readers of the files a user gives: the TOML problem file ([`problem_file`]), Matrix
-//! Market stiffness files ([`mtx`], also the writer of `condense`), Gmsh MSH 4.1 meshes
+//! Market stiffness files ([`mtx`], also the writer of `condense`), Gmsh MSH 4.1 and 2.2 meshes
 //! ([`msh`]), and an earlier result that `critical --start` starts from ([`start`]). Each error
 //! is one line that names the file (and the line, where there is one).
 

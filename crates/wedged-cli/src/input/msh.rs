@@ -1,6 +1,7 @@
-//! Reader of Gmsh meshes in the MSH 4.1 format, ASCII or binary (either byte order).
+//! Reader of Gmsh meshes in the MSH 4.1 format and the legacy MSH 2.2 format, ASCII or binary
+//! (either byte order).
 //!
-//! The file is parsed by the `mshio` crate, completed by what `mshio` leaves out:
+//! An MSH 4.1 file is parsed by the `mshio` crate, completed by what `mshio` leaves out:
 //!
 //! - `$PhysicalNames` (always text, even in binary files) is read here;
 //! - node tags: `mshio` keeps them only when they are sparse, so they are read here from the
@@ -23,6 +24,11 @@
 //!
 //! Gmsh saves only the elements that belong to a physical group unless `Mesh.SaveAll = 1`, so
 //! the body needs a physical surface (2D) or volume (3D) when the boundary has physical groups.
+//!
+//! An MSH 2.2 file (Gmsh's `-format msh22`, still the default of many tools) has no entities:
+//! each element carries its physical tag, and an element of several physical groups is written
+//! once per group. It is read here ([`v2`]) into the same [`Mesh`]: the same nodes and groups as
+//! the MSH 4.1 file of the same model, each body element once.
 
 use std::collections::{BTreeMap, HashMap};
 use std::fmt;
@@ -65,7 +71,7 @@ impl fmt::Display for MshError {
 
 impl std::error::Error for MshError {}
 
-/// Reads a Gmsh MSH 4.1 file (ASCII or binary).
+/// Reads a Gmsh MSH 4.1 or 2.2 file (ASCII or binary).
 pub fn read(path: &Path) -> Result<Mesh, MshError> {
     let name = path.display().to_string();
     let bytes = std::fs::read(path)
@@ -73,13 +79,17 @@ pub fn read(path: &Path) -> Result<Mesh, MshError> {
     parse(&bytes, &name)
 }
 
-/// Parses the contents of a Gmsh MSH 4.1 file (ASCII or binary); `name` is used in messages.
+/// Parses the contents of a Gmsh MSH 4.1 or 2.2 file (ASCII or binary); `name` is used in
+/// messages.
 pub fn parse(bytes: &[u8], name: &str) -> Result<Mesh, MshError> {
     parse_inner(bytes).map_err(|message| MshError::new(name, message))
 }
 
 fn parse_inner(bytes: &[u8]) -> Result<Mesh, String> {
     let header = Header::read(bytes)?;
+    if header.legacy {
+        return v2::parse(bytes, &header);
+    }
     precheck_sections(bytes, &header)?;
     // `mshio` has no known panic left on the inputs that pass the checks above; should one
     // remain, it becomes an error rather than a crash.
@@ -97,14 +107,17 @@ fn parse_inner(bytes: &[u8]) -> Result<Mesh, String> {
 
 /// What the `$MeshFormat` section says.
 struct Header {
+    /// MSH 2.2 (else 4.1).
+    legacy: bool,
     binary: bool,
     size_t: usize,
     big_endian: bool,
 }
 
 impl Header {
-    /// Checks the `$MeshFormat` section: version 4.1, file type 0 or 1, a usable `size_t` size
-    /// and, in binary files, a recognisable byte order.
+    /// Checks the `$MeshFormat` section: version 4.1 or 2.2, file type 0 or 1, a usable
+    /// `size_t` size (MSH 2.2: the size of a double, 8) and, in binary files, a recognisable
+    /// byte order.
     fn read(bytes: &[u8]) -> Result<Header, String> {
         if bytes.iter().all(|b| b.is_ascii_whitespace()) {
             return Err("the file is empty".to_string());
@@ -120,11 +133,13 @@ impl Header {
             format!("invalid $MeshFormat header '{shown}'")
         };
         let version = fields.first().ok_or_else(invalid)?;
-        if version.parse::<f64>().map_err(|_| invalid())? != 4.1 {
+        let number = version.parse::<f64>().map_err(|_| invalid())?;
+        if number != 4.1 && number != 2.2 {
             return Err(format!(
-                "MSH {version} is not supported; save as MSH 4.1 (gmsh -format msh41)"
+                "MSH {version} is not supported; save as MSH 4.1 (gmsh -format msh41) or 2.2"
             ));
         }
+        let legacy = number == 2.2;
         if fields.len() != 3 {
             return Err(invalid());
         }
@@ -139,6 +154,12 @@ impl Header {
         };
         let mut big_endian = false;
         if binary {
+            if legacy && size_t != 8 {
+                return Err(format!(
+                    "binary MSH 2.2 files with {size_t}-byte doubles are not supported \
+                     (only 8 bytes)"
+                ));
+            }
             if size_t != 4 && size_t != 8 {
                 return Err(format!(
                     "binary MSH files with {size_t}-byte size_t are not supported \
@@ -162,6 +183,7 @@ impl Header {
             }
         }
         Ok(Header {
+            legacy,
             binary,
             size_t,
             big_endian,
@@ -549,33 +571,8 @@ fn build(
             (b, t, type_info(t).1.unwrap_or(b.entity_dim))
         })
         .collect();
-    let dim = blocks.iter().map(|&(_, _, d)| d).max().unwrap_or(-1);
-    if dim < 2 {
-        return Err(
-            "the file has no 2D or 3D elements; Gmsh saves only the elements of physical \
-             groups: add a physical surface (2D) or volume (3D) for the body, or set \
-             Mesh.SaveAll = 1"
-                .to_string(),
-        );
-    }
-    if dim > 3 {
-        return Err(format!("the file has elements of dimension {dim}"));
-    }
-    // Body blocks first, so that a second-order mesh is reported by its body element type.
-    for &(_, t, d) in blocks.iter().filter(|b| b.2 == dim) {
-        body_kind(t, d).ok_or_else(|| unsupported(t, dim))?;
-    }
-    for &(_, t, d) in blocks.iter().filter(|b| b.2 != dim) {
-        let ok = match d {
-            0 => t == 15,
-            1 => t == 1,
-            2 => t == 2 || t == 3,
-            _ => false,
-        };
-        if !ok {
-            return Err(unsupported(t, dim));
-        }
-    }
+    let dim = mesh_dim(blocks.iter().map(|&(_, t, d)| (t, d)))?;
+    check_types(blocks.iter().map(|&(_, t, d)| (t, d)), dim)?;
 
     // Every element, as node indices.
     let convert = |element: &mshio::Element<u64>| -> Result<Vec<usize>, String> {
@@ -613,26 +610,69 @@ fn build(
         }
     }
 
-    // 2D meshes: planar in z, then z = 0.
     if dim == 2 {
-        let z0 = coords.first().map_or(0.0, |x| x[2]);
-        let scale = coords
-            .iter()
-            .flat_map(|x| [x[0].abs(), x[1].abs()])
-            .fold(1.0_f64, f64::max);
-        if let Some(x) = coords.iter().find(|x| (x[2] - z0).abs() > 1e-9 * scale) {
-            return Err(format!(
-                "2D mesh is not planar in z (nodes at z = {z0} and z = {})",
-                x[2]
-            ));
-        }
-        for x in &mut coords {
-            x[2] = 0.0;
-        }
+        flatten(&mut coords)?;
     }
-
     let groups = physical_groups(msh, names, dim, &blocks, &converted, &point_nodes);
     Mesh::new(dim as usize, coords, body, groups).map_err(|e| format!("invalid mesh: {e}"))
+}
+
+/// The mesh's dimension from its elements' (Gmsh type, dimension) pairs: the highest, which
+/// must be 2 or 3 (see the error for a file without a body).
+fn mesh_dim(types: impl Iterator<Item = (i32, i32)>) -> Result<i32, String> {
+    let dim = types.map(|(_, d)| d).max().unwrap_or(-1);
+    if dim < 2 {
+        return Err(
+            "the file has no 2D or 3D elements; Gmsh saves only the elements of physical \
+             groups: add a physical surface (2D) or volume (3D) for the body, or set \
+             Mesh.SaveAll = 1"
+                .to_string(),
+        );
+    }
+    if dim > 3 {
+        return Err(format!("the file has elements of dimension {dim}"));
+    }
+    Ok(dim)
+}
+
+/// Checks that every element type (with its dimension) is one this reader takes in a
+/// `dim`-dimensional mesh: body types first, so that a second-order mesh is reported by its
+/// body element type.
+fn check_types(types: impl Iterator<Item = (i32, i32)> + Clone, dim: i32) -> Result<(), String> {
+    for (t, d) in types.clone().filter(|&(_, d)| d == dim) {
+        body_kind(t, d).ok_or_else(|| unsupported(t, dim))?;
+    }
+    for (t, d) in types.filter(|&(_, d)| d != dim) {
+        let ok = match d {
+            0 => t == 15,
+            1 => t == 1,
+            2 => t == 2 || t == 3,
+            _ => false,
+        };
+        if !ok {
+            return Err(unsupported(t, dim));
+        }
+    }
+    Ok(())
+}
+
+/// A 2D mesh's nodes: planar in z, then set to z = 0.
+fn flatten(coords: &mut [[f64; 3]]) -> Result<(), String> {
+    let z0 = coords.first().map_or(0.0, |x| x[2]);
+    let scale = coords
+        .iter()
+        .flat_map(|x| [x[0].abs(), x[1].abs()])
+        .fold(1.0_f64, f64::max);
+    if let Some(x) = coords.iter().find(|x| (x[2] - z0).abs() > 1e-9 * scale) {
+        return Err(format!(
+            "2D mesh is not planar in z (nodes at z = {z0} and z = {})",
+            x[2]
+        ));
+    }
+    for x in coords.iter_mut() {
+        x[2] = 0.0;
+    }
+    Ok(())
 }
 
 /// The body element kind of Gmsh type `t` in a `dim`-dimensional block.
@@ -726,3 +766,4 @@ fn physical_groups(
 
 #[cfg(test)]
 mod tests;
+mod v2;

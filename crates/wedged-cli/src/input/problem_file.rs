@@ -13,7 +13,7 @@
 //! ```toml
 //! mu = 0.8
 //! [mesh]
-//! gmsh = "plug.msh"              # MSH 4.1, ASCII or binary; or a built-in body:
+//! gmsh = "plug.msh"              # MSH 4.1 or 2.2, ASCII or binary; or a built-in body:
 //! # [mesh.generate]
 //! # kind = "plug2d"              # plug2d | vgroove3d | frustum3d
 //! # bottom_width = 1.0 ...
