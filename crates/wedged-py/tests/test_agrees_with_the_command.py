@@ -116,3 +116,23 @@ def test_critical_start_equals_the_command(tmp_path):
     assert abs(by_set.mu - python["mu_critical"]) <= 2e-9 * by_set.mu
     with pytest.raises(wedged.InputError, match="start contact set has 3 entries"):
         wedged.critical(problem.K, start=[True, False, True])
+
+
+def test_the_module_functions_take_a_loaded_problem():
+    """``wedged.critical(problem)`` and ``wedged.enumerate(problem)`` are the problem's own
+    methods (dimension, rigid modes and mu from the file); keywords that contradict it are
+    refused by name."""
+    plug3d, cork = wedged.load(EXAMPLES / "plug3d.toml"), wedged.load(EXAMPLES / "cork2d.toml")
+    same_critical(json.loads(wedged.critical(plug3d).to_json()), cli_json("critical", str(plug3d.source)))
+    assert stable(json.loads(wedged.enumerate(cork).to_json())) == stable(
+        cli_json("enumerate", str(cork.source))
+    )
+    assert stable(json.loads(wedged.enumerate(cork, 2.5).to_json())) == stable(
+        cli_json("enumerate", str(cork.source), "--mu", "2.5")
+    )
+    with pytest.raises(wedged.InputError, match="dim=2, but the Problem .* is 3D"):
+        wedged.critical(plug3d, dim=2)
+    with pytest.raises(wedged.InputError, match="brings its own rigid modes"):
+        wedged.enumerate(cork, rigid_modes=cork.rigid_modes)
+    with pytest.raises(wedged.InputError, match="mu is needed"):
+        wedged.enumerate(cork.K)

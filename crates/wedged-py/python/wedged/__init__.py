@@ -299,11 +299,22 @@ def _number(name: str, value: Any) -> Optional[float]:
         raise InputError(f"{name} must be a number, got {value!r}") from None
 
 
+def _own(problem: "Problem", what: str, dim: Optional[int], rigid_modes: Any) -> None:
+    """A loaded :class:`Problem` given to :func:`enumerate` or :func:`critical` in place of
+    ``K`` brings its own dimension and rigid modes: refuses others."""
+    if rigid_modes is not None:
+        raise InputError(
+            f"{what}: a loaded Problem brings its own rigid modes; do not pass rigid_modes"
+        )
+    if dim is not None and int(dim) != problem.dim:
+        raise InputError(f"{what}: dim={dim}, but the Problem {problem.source!r} is {problem.dim}D")
+
+
 def enumerate(
     K: Any,
-    mu: float,
+    mu: Optional[float] = None,
     *,
-    dim: int = 2,
+    dim: Optional[int] = None,
     method: Optional[str] = None,
     time_limit: Optional[float] = None,
     certify: bool = False,
@@ -316,7 +327,9 @@ def enumerate(
     """Every wedged configuration of the condensed stiffness ``K`` at friction ``mu``.
 
     ``K``: ``dim m x dim m``, symmetric positive definite, local frames, normal first (a NumPy
-    array or any ``scipy.sparse`` matrix). ``method``: as the command's ``--method``
+    array or any ``scipy.sparse`` matrix); or a :class:`Problem` from :func:`load`, which
+    brings its dimension, rigid modes and (unless ``mu`` is given) friction coefficient, as
+    ``problem.enumerate(...)``. ``dim``: 2 (default) or 3. ``method``: as the command's ``--method``
     (default in 2D ``search``, the rays, up to 12 contact nodes, ``pattern-search`` above;
     ``bnb`` in 3D). ``time_limit`` in seconds (the result is
     then marked incomplete); ``certify`` checks the answer in exact arithmetic (a failure
@@ -331,10 +344,18 @@ def enumerate(
     (``--jsonl``; a pattern method, ``pattern-search`` by default in 2D): the result then
     holds none (``info["streamed"]`` counts them), so memory does not grow with their number.
     """
+    if isinstance(K, Problem):
+        _own(K, "enumerate", dim, rigid_modes)
+        return K.enumerate(
+            mu=mu, method=method, time_limit=time_limit, certify=certify, zero_tol=zero_tol,
+            progress=progress, shard=shard, jsonl=jsonl,
+        )
+    if mu is None:
+        raise InputError("enumerate: mu is needed (a friction coefficient > 0)")
     run = _wedged.enumerate(
         _matrix(K),
         _number("mu", mu),
-        dim=int(dim),
+        dim=2 if dim is None else int(dim),
         method=method,
         time_limit=_number("time_limit", time_limit),
         certify=bool(certify),
@@ -422,7 +443,7 @@ def merge(parts: Any, problem: Any = None) -> Any:
 def critical(
     K: Any,
     *,
-    dim: int = 2,
+    dim: Optional[int] = None,
     method: Optional[str] = None,
     time_limit: Optional[float] = None,
     certify: bool = False,
@@ -434,16 +455,23 @@ def critical(
 ) -> Critical:
     """The critical friction coefficient ``mu*`` of the condensed stiffness ``K``: the least
     ``mu`` at which WP has a solution ``(u, r) != 0``, bracketed to the relative width ``tol``
-    (default 1e-9). ``method``: ``bnb`` (default), ``enumerate`` or ``faces``; ``certify``
+    (default 1e-9). ``K`` as in :func:`enumerate` (a matrix, ``dim`` 2 by default, or a loaded
+    :class:`Problem`, as ``problem.critical(...)``). ``method``: ``bnb`` (default), ``enumerate`` or ``faces``; ``certify``
     checks every pruning decision behind ``lower`` and the witness at ``upper`` exactly.
     ``rigid_modes``: as in :func:`enumerate`, for a floating body. ``shard``: ``(i, n)``, one
     shard of the ``bnb`` search (combined by :func:`merge`; see :mod:`wedged.distributed`).
     ``start``: where the ``bnb`` search starts, as ``critical --start``: a contact set (one
     bool per node), an earlier :class:`Critical` or the path of an earlier result's JSON, with
     as many nodes; the bracket does not depend on it."""
+    if isinstance(K, Problem):
+        _own(K, "critical", dim, rigid_modes)
+        return K.critical(
+            method=method, time_limit=time_limit, certify=certify, tol=tol, progress=progress,
+            shard=shard, start=start,
+        )
     text = _wedged.critical(
         _matrix(K),
-        dim=int(dim),
+        dim=2 if dim is None else int(dim),
         method=method,
         time_limit=_number("time_limit", time_limit),
         certify=bool(certify),
