@@ -29,7 +29,9 @@ Problem file (TOML), a condensed stiffness:
 or a meshed body, condensed onto its contact nodes:
   mu = 0.8
   [mesh]
-  gmsh = \"plug.msh\"            # Gmsh MSH 4.1 or 2.2 (ASCII or binary), groups by name; or:
+  gmsh = \"plug.msh\"            # Gmsh MSH 4.1 or 2.2 (ASCII or binary), groups by name, or
+                               #   a Gmsh script (.geo, meshed by Gmsh at each run), with:
+  # [mesh.parameters]          #   its DefineConstant numbers (half_angle = 20, ...); or
   # [mesh.generate]            # a built-in body:
   # kind = \"plug2d\"            #   bottom_width, top_width, height, nx, ny, element = quad|tri
   #                            # 3D: vgroove3d: bottom_width, top_width, height, length, nx,

@@ -575,3 +575,135 @@ fn a_bad_mu_of_a_meshed_body_is_named_as_such() {
     );
     assert!(!String::from_utf8_lossy(&out.stderr).contains("condensed stiffness"));
 }
+
+/// Runs `wedged` with `args` and the Gmsh program `gmsh`.
+fn wedged_with_gmsh(gmsh: &str, args: &[&str]) -> Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_wedged"))
+        .args(args)
+        .env("WEDGED_GMSH", gmsh)
+        .output()
+        .expect("the binary runs")
+}
+
+/// A stand-in for Gmsh (a shell script; `cargo test` does not have Gmsh, the Python tests run
+/// the real one): it logs its arguments, answers the parse-only run by `reply_parse`, prints
+/// `reply_mesh` and writes the Gmsh plug fixture where `-o` says.
+#[cfg(unix)]
+fn fake_gmsh(dir: &tempfile::TempDir, reply_parse: &str, reply_mesh: &str) -> String {
+    use std::os::unix::fs::PermissionsExt;
+    let log = dir.path().join("args.log");
+    let script = format!(
+        "#!/bin/sh\necho \"$@\" >> '{log}'\n\
+         case \" $* \" in *' -parse_and_exit '*) printf '{reply_parse}'; exit 0;; esac\n\
+         while [ $# -gt 0 ]; do if [ \"$1\" = -o ]; then cp '{msh}' \"$2\"; fi; shift; done\n\
+         printf '{reply_mesh}'\n",
+        log = log.display(),
+        msh = fixture("msh/plug2d_quad.msh"),
+    );
+    let path = write(dir, "gmsh.sh", &script);
+    fs::set_permissions(&path, fs::Permissions::from_mode(0o755)).unwrap();
+    path
+}
+
+/// `gmsh = "body.geo"` runs Gmsh on the script with the file's `[mesh.parameters]`, and reads
+/// the mesh it writes; what Gmsh reports, and parameters the script does not take as given,
+/// are one-line errors (exit 2).
+#[cfg(unix)]
+#[test]
+fn a_gmsh_script_is_meshed_by_gmsh_with_its_parameters() {
+    let dir = tempfile::tempdir().unwrap();
+    write(&dir, "plug.geo", "// meshed by the stand-in\n");
+    let toml = PLUG.replace(
+        "[mesh.generate]\nkind = \"plug2d\"\nbottom_width = 1.0\ntop_width = 2.0\nheight = 1.0\nnx = 6\nny = 4\n",
+        "[mesh]\ngmsh = \"plug.geo\"\n[mesh.parameters]\nangle = 10\nlc = 0.25\n",
+    );
+    let problem = write(&dir, "plug.toml", &toml);
+    let msh = write(
+        &dir,
+        "msh.toml",
+        &toml
+            .replace("plug.geo", &fixture("msh/plug2d_quad.msh"))
+            .replace("[mesh.parameters]\nangle = 10\nlc = 0.25\n", ""),
+    );
+    let ok = "wedged-parameter angle 10\\nwedged-parameter lc 0.25\\n";
+    let gmsh = fake_gmsh(&dir, "", ok);
+    let out = wedged_with_gmsh(&gmsh, &["critical", &problem, "--json", "-"]);
+    assert_success(&out);
+    let from_script: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let out = wedged(&["critical", &msh, "--json", "-"]);
+    assert_success(&out);
+    let from_msh: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(from_script["mu_critical"], from_msh["mu_critical"]);
+    // Two runs: a parse for the parameters' existence, then the mesh with them set.
+    let log = fs::read_to_string(dir.path().join("args.log")).unwrap();
+    let runs: Vec<&str> = log.lines().collect();
+    assert_eq!(runs.len(), 2, "{log}");
+    assert!(runs[0].contains("plug.geo") && runs[0].contains("exists.geo -parse_and_exit"));
+    assert!(runs[1].contains("check.geo -3 -format msh41 -o "), "{log}");
+    assert!(
+        runs[1].contains("-setnumber angle 1e1 -setnumber lc 2.5e-1"),
+        "{log}"
+    );
+
+    let cases: [(&str, &str, &[&str]); 3] = [
+        (
+            "",
+            "wedged-parameter angle 10\\nwedged-parameter lc 0.1\\n",
+            &[
+                "plug.toml: [mesh.parameters]: lc = 0.25, but ",
+                "set it to 0.1",
+                "DefineConstant[ lc = {0.1} ]",
+            ],
+        ),
+        (
+            "wedged-parameter lc undefined\\n",
+            ok,
+            &[
+                "plug.geo has no variable lc",
+                "DefineConstant[ lc = {...} ]",
+            ],
+        ),
+        (
+            "",
+            "Info : x\\nError   : plug.geo, line 3: syntax error (Pint)\\n",
+            &[
+                "Gmsh failed on ",
+                "plug.geo: plug.geo, line 3: syntax error (Pint)",
+            ],
+        ),
+    ];
+    for (parse, mesh, needles) in cases {
+        let gmsh = fake_gmsh(&dir, parse, mesh);
+        assert_bad_input(&wedged_with_gmsh(&gmsh, &["critical", &problem]), needles);
+    }
+    assert_bad_input(
+        &wedged_with_gmsh(
+            &dir.path().join("nowhere").display().to_string(),
+            &["critical", &problem],
+        ),
+        &[
+            "meshing ",
+            "needs Gmsh, and `",
+            "was not found",
+            "WEDGED_GMSH",
+        ],
+    );
+    let bad_name = write(
+        &dir,
+        "bad.toml",
+        &toml.replace("angle = 10", "\"an gle\" = 10"),
+    );
+    assert_bad_input(
+        &wedged_with_gmsh(&gmsh, &["critical", &bad_name]),
+        &["`an gle` is not a Gmsh variable name"],
+    );
+    let with_msh = write(
+        &dir,
+        "params.toml",
+        &toml.replace("plug.geo", &fixture("msh/plug2d_quad.msh")),
+    );
+    assert_bad_input(
+        &wedged(&["critical", &with_msh]),
+        &["[mesh.parameters] are for a Gmsh script"],
+    );
+}

@@ -766,4 +766,6 @@ fn physical_groups(
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_v2;
 mod v2;

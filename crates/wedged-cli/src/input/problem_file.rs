@@ -13,7 +13,10 @@
 //! ```toml
 //! mu = 0.8
 //! [mesh]
-//! gmsh = "plug.msh"              # MSH 4.1 or 2.2, ASCII or binary; or a built-in body:
+//! gmsh = "plug.msh"              # MSH 4.1 or 2.2, ASCII or binary; or a Gmsh script,
+//! # gmsh = "plug.geo"            # meshed by Gmsh with the numbers of [mesh.parameters]
+//! # [mesh.parameters]            # (its DefineConstant values; see `geo`); or a built-in body:
+//! # half_angle = 10.0
 //! # [mesh.generate]
 //! # kind = "plug2d"              # plug2d | vgroove3d | frustum3d
 //! # bottom_width = 1.0 ...
@@ -42,7 +45,7 @@ use wedged::fe::generate::{Frustum, Plug2d, VGroove};
 use wedged::fe::{BoundarySpec, ContactSpec, Material, Mesh, Model, Plane};
 use wedged::{Problem, ProblemError};
 
-use crate::input::{msh, mtx};
+use crate::input::{geo, msh, mtx};
 use crate::one_line;
 
 /// A problem file that could not be read or is invalid; the message names the file.
@@ -82,6 +85,8 @@ struct RawProblem {
 struct RawMesh {
     gmsh: Option<PathBuf>,
     generate: Option<Generate>,
+    /// A Gmsh script's parameters (`gmsh = "body.geo"`).
+    parameters: Option<std::collections::BTreeMap<String, f64>>,
 }
 
 /// A built-in body. Widths, heights and lengths are in the units of the material's modulus.
@@ -391,6 +396,17 @@ fn load_model_from(path: &Path, raw: RawProblem) -> Result<Model, LoadError> {
         ));
     }
     let raw_mesh = raw.mesh.expect("checked by the caller");
+    let script = raw_mesh
+        .gmsh
+        .as_ref()
+        .is_some_and(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("geo")));
+    if raw_mesh.parameters.is_some() && !script {
+        return Err(err(
+            "[mesh.parameters] are for a Gmsh script (`gmsh = \"body.geo\"`), which Gmsh \
+             meshes with them"
+                .into(),
+        ));
+    }
     let mesh = match (raw_mesh.gmsh, raw_mesh.generate) {
         (Some(_), Some(_)) => {
             return Err(err(
@@ -401,6 +417,11 @@ fn load_model_from(path: &Path, raw: RawProblem) -> Result<Model, LoadError> {
             return Err(err(
                 "[mesh] needs `gmsh = \"body.msh\"` or a [mesh.generate] table".into(),
             ))
+        }
+        (Some(relative), None) if script => {
+            let base = path.parent().unwrap_or(Path::new(""));
+            let parameters = raw_mesh.parameters.unwrap_or_default();
+            geo::mesh(&base.join(relative), &parameters).map_err(|m| err(one_line(&m)))?
         }
         (Some(relative), None) => {
             let base = path.parent().unwrap_or(Path::new(""));

@@ -1,0 +1,113 @@
+"""A Gmsh script as the problem's mesh (examples/plug2d.geo, `[mesh.parameters]`), meshed by the
+real Gmsh (the `gmsh` package that scripts/test installs): the mesh it gives is the one Gmsh's
+own Python API makes of the script with the same parameters, in the command and in Python; the
+parameters reach the script; a study varies them."""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import wedged
+from conftest import EXAMPLES, cli_json, wedged_bin
+
+gmsh = pytest.importorskip("gmsh")
+
+SCRIPT = EXAMPLES / "plug2d.geo"
+
+
+@pytest.fixture(autouse=True)
+def gmsh_on_the_path(monkeypatch):
+    """The package's `gmsh` command (a Python script run by `python`) on the PATH, for the
+    command and for the package, which both run it."""
+    bin_dir = Path(sys.executable).parent
+    assert (bin_dir / "gmsh").exists(), "the gmsh package's command is missing"
+    monkeypatch.setenv("PATH", f"{bin_dir}{os.pathsep}{os.environ.get('PATH', '')}")
+    monkeypatch.delenv("WEDGED_GMSH", raising=False)
+
+
+def problem(tmp_path: Path, mesh: str, name: str) -> Path:
+    """examples/plug2d_geo.toml with its [mesh] table (and parameters) replaced by `mesh`."""
+    text = (EXAMPLES / "plug2d_geo.toml").read_text()
+    path = tmp_path / name
+    path.write_text(text[: text.index("[mesh]")] + mesh + "\n" + text[text.index("[material]"):])
+    return path
+
+
+def by_the_api(tmp_path: Path, half_angle: float, lc: float) -> Path:
+    """The script meshed by Gmsh's Python API with the parameters set as ONELAB numbers."""
+    out = tmp_path / f"api_{half_angle}.msh"
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.onelab.setNumber("half_angle", [half_angle])
+        gmsh.onelab.setNumber("lc", [lc])
+        gmsh.open(str(SCRIPT))
+        gmsh.model.mesh.generate(2)
+        gmsh.write(str(out))
+    finally:
+        gmsh.finalize()
+    return out
+
+
+@pytest.mark.parametrize("half_angle", [15.0, 30.0])
+def test_the_script_is_meshed_as_gmsh_meshes_it(tmp_path, half_angle):
+    toml = problem(
+        tmp_path,
+        f'[mesh]\ngmsh = "{SCRIPT}"\n[mesh.parameters]\nhalf_angle = {half_angle}\nlc = 0.2\n',
+        "plug.toml",
+    )
+    reference = problem(tmp_path, f'[mesh]\ngmsh = "{by_the_api(tmp_path, half_angle, 0.2)}"', "ref.toml")
+    from_script, from_api = cli_json("critical", str(toml)), cli_json("critical", str(reference))
+    # The same mesh, so the same mu*: within the bracket's width, the parallel search's
+    # upper ends (conftest.same_critical).
+    assert from_script["status"] == from_api["status"] == "wedged"
+    width = 2 * from_script["tol"] * from_script["upper"]
+    assert abs(from_script["mu_critical"] - from_api["mu_critical"]) <= width
+    assert abs(wedged.load(toml).critical().mu - from_script["mu_critical"]) <= width
+    assert from_script["nodes"] == from_api["nodes"] > 0
+    # The parameter reached the script: the top corner is at 0.5 + tan(half_angle).
+    points = wedged.load(toml).mesh()["points"]
+    assert max(points[:, 0]) == pytest.approx(0.5 + math.tan(math.radians(half_angle)), rel=1e-12)
+
+
+def test_a_parameter_the_script_overwrites_is_refused(tmp_path):
+    # `lc` set by a plain assignment after the DefineConstant: it overwrites the value given.
+    script = tmp_path / "plain.geo"
+    script.write_text(
+        SCRIPT.read_text()
+        .replace('lc = {0.125, Name "lc"}', "dummy = {0}")
+        .replace("t = Tan(", "lc = 0.125;\nt = Tan(")
+    )
+    text = (EXAMPLES / "plug2d_geo.toml").read_text().replace('gmsh = "plug2d.geo"', f'gmsh = "{script}"')
+    toml = tmp_path / "plain.toml"
+    toml.write_text(text.replace("lc = 0.125 ", "lc = 0.3 "))
+    with pytest.raises(wedged.InputError, match=r"lc = 0.3, but .*plain.geo set it to 0.125"):
+        wedged.load(toml)
+    done = subprocess.run([str(wedged_bin()), "critical", str(toml)], capture_output=True, text=True)
+    assert done.returncode == 2
+    assert "DefineConstant[ lc = {0.125} ]" in done.stderr
+    # The value the script sets itself, given: nothing to refuse.
+    toml.write_text(text)
+    assert wedged.load(toml).K.shape[0] > 0
+
+
+def test_a_study_varies_the_scripts_parameters(tmp_path):
+    out = tmp_path / "study"
+    done = subprocess.run(
+        [str(wedged_bin()), "study", str(EXAMPLES / "plug2d_geo.toml"),
+         "--vary", "mesh.parameters.half_angle=15,35", "--out", str(out)],
+        capture_output=True, text=True,
+    )
+    assert done.returncode == 0, done.stderr
+    rows = list(csv.DictReader((out / "study.csv").open()))
+    assert [r["mesh.parameters.half_angle"] for r in rows] == ["15", "35"]
+    mus = [float(r["mu_star"]) for r in rows]
+    assert all(r["complete"] == "true" for r in rows)
+    assert mus[0] != mus[1]
