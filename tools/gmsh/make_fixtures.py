@@ -10,11 +10,16 @@ Writes into crates/wedged-cli/tests/fixtures/msh/ (relative to the repository ro
                        the contact group's, is written once per group)
   plug2d_quad_22_bin.msh  the same mesh, binary MSH 2.2
   plug2d_tri.msh       the same trapezoid, unstructured 3-node triangles (size 0.25), same groups
+  plug2d_tri6.msh      plug2d_tri.msh of second order: 6-node triangles, 3-node lines
+  plug2d_quad9.msh     plug2d_quad.msh of second order: 9-node quadrangles, 3-node lines
+  plug2d_quad8.msh     the same, incomplete (Mesh.SecondOrderIncomplete = 1): 8-node quadrangles
   box3d_tet.msh        unit cube, 4-node tetrahedra (size 0.5); groups bottom (z=0), top (z=1),
                        sides, body
   box3d_tet_22.msh     box3d_tet.msh as ASCII MSH 2.2
+  box3d_tet10.msh      box3d_tet.msh of second order: 10-node tetrahedra, 6-node triangles
   box3d_hex.msh        unit cube, transfinite 2 x 2 x 2 hexahedra, same groups
-  second_order.msh     unit square, 6-node (second-order) triangles: an unsupported element type
+  second_order.msh     unit square, 6-node (second-order) triangles
+  third_order.msh      unit square, 10-node (third-order) triangles: an unsupported element type
   msh22.msh            unit square, 3-node triangles, saved as MSH 2.2
   truncated.msh        plug2d_quad.msh cut in the middle of its $Nodes section
   garbage.msh          a text file that is not a mesh
@@ -94,6 +99,12 @@ def plug2d_quad():
     save("plug2d_quad_bin.msh", binary=True)
     save("plug2d_quad_22.msh", version=2.2)
     save("plug2d_quad_22_bin.msh", version=2.2, binary=True)
+    mesh.setOrder(2)
+    save("plug2d_quad9.msh")
+    gmsh.option.setNumber("Mesh.SecondOrderIncomplete", 1)
+    mesh.setOrder(1)
+    mesh.setOrder(2)
+    save("plug2d_quad8.msh")
     gmsh.finalize()
 
 
@@ -104,6 +115,8 @@ def plug2d_tri():
     trapezoid_groups(curves, surface)
     gmsh.model.mesh.generate(2)
     save("plug2d_tri.msh")
+    gmsh.model.mesh.setOrder(2)
+    save("plug2d_tri6.msh")
     gmsh.finalize()
 
 
@@ -144,6 +157,8 @@ def box3d_tet():
     gmsh.model.mesh.generate(3)
     save("box3d_tet.msh")
     save("box3d_tet_22.msh", version=2.2)
+    gmsh.model.mesh.setOrder(2)
+    save("box3d_tet10.msh")
     gmsh.finalize()
 
 
@@ -179,6 +194,8 @@ def second_order():
     gmsh.option.setNumber("Mesh.ElementOrder", 2)
     gmsh.model.mesh.generate(2)
     save("second_order.msh")
+    gmsh.model.mesh.setOrder(3)
+    save("third_order.msh")
     gmsh.finalize()
 
 

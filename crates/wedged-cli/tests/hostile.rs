@@ -75,7 +75,7 @@ const CATALOGUE: &[(&str, &[&str])] = &[
     ),
     (
         "mesh_second_order.toml",
-        &["second_order.msh", "element type 9", "ElementOrder"],
+        &["third_order.msh", "element type 21", "ElementOrder"],
     ),
     (
         "mesh_missing_group.toml",

@@ -667,7 +667,13 @@ impl LoadedProblem {
         let mut blocks: Vec<(&'static str, Vec<Vec<u64>>)> = Vec::new();
         for element in mesh.elements() {
             let name = meshio_type(element.kind);
-            let cell: Vec<u64> = element.nodes.iter().map(|&n| n as u64).collect();
+            // meshio orders a cell's nodes as VTK does.
+            let cell: Vec<u64> = element
+                .kind
+                .vtk_order(&element.nodes)
+                .into_iter()
+                .map(|n| n as u64)
+                .collect();
             match blocks.last_mut() {
                 Some((last, cells)) if *last == name => cells.push(cell),
                 _ => blocks.push((name, vec![cell])),
@@ -753,6 +759,10 @@ fn meshio_type(kind: ElementKind) -> &'static str {
         ElementKind::Quad4 => "quad",
         ElementKind::Tet4 => "tetra",
         ElementKind::Hex8 => "hexahedron",
+        ElementKind::Tri6 => "triangle6",
+        ElementKind::Quad8 => "quad8",
+        ElementKind::Quad9 => "quad9",
+        ElementKind::Tet10 => "tetra10",
     }
 }
 

@@ -9,15 +9,55 @@ use rand_chacha::ChaCha8Rng;
 use wedged::fe::element::{centroid_stress, stiffness};
 use wedged::fe::{ElementKind, Material, Plane};
 
-const KINDS: [ElementKind; 4] = [
+const KINDS: [ElementKind; 8] = [
     ElementKind::Tri3,
     ElementKind::Quad4,
     ElementKind::Tet4,
     ElementKind::Hex8,
+    ElementKind::Tri6,
+    ElementKind::Quad8,
+    ElementKind::Quad9,
+    ElementKind::Tet10,
 ];
+
+/// The corner pairs of each second-order kind's mid-edge nodes, in Gmsh's order (written
+/// out here from Gmsh's documentation, not taken from the library).
+fn mid_edges(kind: ElementKind) -> &'static [[usize; 2]] {
+    match kind {
+        ElementKind::Tri6 => &[[0, 1], [1, 2], [2, 0]],
+        ElementKind::Quad8 | ElementKind::Quad9 => &[[0, 1], [1, 2], [2, 3], [3, 0]],
+        ElementKind::Tet10 => &[[0, 1], [1, 2], [0, 2], [0, 3], [2, 3], [1, 3]],
+        _ => &[],
+    }
+}
+
+/// A straight-sided element of `kind` on `corners`: its mid-edge nodes at the middles of its
+/// edges, a `Quad9`'s centre at the mean of its corners.
+fn with_midpoints(kind: ElementKind, corners: &[[f64; 3]]) -> Vec<[f64; 3]> {
+    let mut x = corners.to_vec();
+    let mid = |p: &[[f64; 3]]| {
+        let mut c = [0.0; 3];
+        for q in p {
+            for k in 0..3 {
+                c[k] += q[k] / p.len() as f64;
+            }
+        }
+        c
+    };
+    for &[a, b] in mid_edges(kind) {
+        x.push(mid(&[corners[a], corners[b]]));
+    }
+    if kind == ElementKind::Quad9 {
+        x.push(mid(corners));
+    }
+    x
+}
 
 /// The reference element with unit edges along the axes.
 fn reference(kind: ElementKind) -> Vec<[f64; 3]> {
+    if kind.linear() != kind {
+        return with_midpoints(kind, &reference(kind.linear()));
+    }
     match kind {
         ElementKind::Tri3 => vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
         ElementKind::Quad4 => vec![
@@ -42,6 +82,7 @@ fn reference(kind: ElementKind) -> Vec<[f64; 3]> {
             [1.0, 1.0, 1.0],
             [0.0, 1.0, 1.0],
         ],
+        _ => unreachable!("the linear kinds"),
     }
 }
 
@@ -70,19 +111,34 @@ fn transform(x: &[[f64; 3]], r: &Matrix3<f64>, shift: [f64; 3]) -> Vec<[f64; 3]>
         .collect()
 }
 
-/// The reference element with every node moved by up to `0.2` per coordinate, then scaled,
-/// rotated and shifted at random (positively oriented).
+/// The reference element with every corner moved by up to `0.2` per coordinate (the other
+/// nodes by up to `0.04` from the middles of its edges), then scaled, rotated and shifted at
+/// random (positively oriented).
 fn distorted(kind: ElementKind, rng: &mut ChaCha8Rng) -> Vec<[f64; 3]> {
     let dim = kind.dim();
     let scale = 10f64.powf(rng.gen_range(-2.0..2.0));
-    let x: Vec<[f64; 3]> = reference(kind)
+    let mut move_by = |p: &[f64; 3], by: f64| {
+        let mut q = [0.0; 3];
+        for k in 0..dim {
+            q[k] = scale * (p[k] + rng.gen_range(-by..by));
+        }
+        q
+    };
+    let corners: Vec<[f64; 3]> = reference(kind.linear())
         .iter()
-        .map(|p| {
-            let mut q = [0.0; 3];
-            for k in 0..dim {
-                q[k] = scale * (p[k] + rng.gen_range(-0.2..0.2));
+        .map(|p| move_by(p, 0.2))
+        .collect();
+    // A second-order element's other nodes near the middles of its (moved) edges: curved
+    // edges, but not so curved that `det J` changes sign at a corner.
+    let x: Vec<[f64; 3]> = with_midpoints(kind, &corners)
+        .iter()
+        .enumerate()
+        .map(|(a, p)| {
+            if a < corners.len() {
+                *p
+            } else {
+                move_by(&p.map(|v| v / scale), 0.04)
             }
-            q
         })
         .collect();
     let r = random_rotation(rng, dim);
@@ -224,6 +280,10 @@ fn mirror_permutation(kind: ElementKind) -> &'static [usize] {
         ElementKind::Quad4 => &[0, 3, 2, 1],
         ElementKind::Tet4 => &[0, 2, 1, 3],
         ElementKind::Hex8 => &[4, 5, 6, 7, 0, 1, 2, 3],
+        ElementKind::Tri6 => &[0, 2, 1, 5, 4, 3],
+        ElementKind::Quad8 => &[0, 3, 2, 1, 7, 6, 5, 4],
+        ElementKind::Quad9 => &[0, 3, 2, 1, 7, 6, 5, 4, 8],
+        ElementKind::Tet10 => &[0, 2, 1, 3, 6, 5, 4, 7, 9, 8],
     }
 }
 
@@ -415,6 +475,7 @@ impl Patch {
                                 elements.push(tet);
                             }
                         }
+                        _ => unreachable!("patches of linear elements"),
                     }
                 }
             }
@@ -731,4 +792,154 @@ fn constant_strain_energy_is_area_times_density() {
             );
         }
     }
+}
+
+/// A random quadratic displacement field: each component a full quadratic polynomial.
+fn quadratic_field(dim: usize, rng: &mut ChaCha8Rng) -> Vec<Vec<f64>> {
+    // Coefficients per component of 1, x_j, x_j x_k (j <= k).
+    let terms = 1 + dim + dim * (dim + 1) / 2;
+    (0..dim)
+        .map(|_| (0..terms).map(|_| rng.gen_range(-1.0..1.0)).collect())
+        .collect()
+}
+
+/// The field's value and gradient (`grad[i][j] = du_i/dx_j`) at `p`.
+fn quadratic_at(c: &[Vec<f64>], dim: usize, p: &[f64; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
+    let (mut u, mut g) = ([0.0; 3], [[0.0; 3]; 3]);
+    for i in 0..dim {
+        let ci = &c[i];
+        u[i] = ci[0];
+        for j in 0..dim {
+            u[i] += ci[1 + j] * p[j];
+            g[i][j] += ci[1 + j];
+        }
+        let mut t = 1 + dim;
+        for j in 0..dim {
+            for k in j..dim {
+                u[i] += ci[t] * p[j] * p[k];
+                g[i][j] += ci[t] * p[k];
+                g[i][k] += ci[t] * p[j];
+                t += 1;
+            }
+        }
+    }
+    (u, g)
+}
+
+/// The strain energy density `eps^T D eps` (Voigt, engineering shears) of a gradient.
+fn energy_density(g: &[[f64; 3]; 3], dim: usize, d: &DMatrix<f64>) -> f64 {
+    let eps = if dim == 2 {
+        DVector::from_vec(vec![g[0][0], g[1][1], g[0][1] + g[1][0]])
+    } else {
+        DVector::from_vec(vec![
+            g[0][0],
+            g[1][1],
+            g[2][2],
+            g[1][2] + g[2][1],
+            g[0][2] + g[2][0],
+            g[0][1] + g[1][0],
+        ])
+    };
+    eps.dot(&(d * &eps))
+}
+
+/// The integral of a quadratic polynomial `f` over a straight-sided triangle or tetrahedron
+/// with corners `c`, exactly, by rules that are not the library's: the triangle's edge
+/// midpoints (`A/3` each), the tetrahedron's corners (`-V/20`) and edge midpoints (`V/5`).
+fn simplex_integral(c: &[[f64; 3]], f: &dyn Fn(&[f64; 3]) -> f64) -> f64 {
+    let mid = |a: usize, b: usize| -> [f64; 3] { [0, 1, 2].map(|k| (c[a][k] + c[b][k]) / 2.0) };
+    let v = |a: usize| nalgebra::Vector3::from(c[a]) - nalgebra::Vector3::from(c[0]);
+    if c.len() == 3 {
+        let area = v(1).cross(&v(2)).norm() / 2.0;
+        area / 3.0 * (f(&mid(0, 1)) + f(&mid(1, 2)) + f(&mid(2, 0)))
+    } else {
+        let volume = v(1).cross(&v(2)).dot(&v(3)).abs() / 6.0;
+        let corners: f64 = (0..4).map(|a| f(&c[a])).sum();
+        let mids: f64 = [(0, 1), (1, 2), (0, 2), (0, 3), (2, 3), (1, 3)]
+            .iter()
+            .map(|&(a, b)| f(&mid(a, b)))
+            .sum();
+        volume * (-corners / 20.0 + mids / 5.0)
+    }
+}
+
+/// On straight-sided second-order elements (random corners; a quadrilateral a random
+/// parallelogram, split into two triangles for the reference integral), a random quadratic
+/// field at the nodes has the strain energy `u^T K u` of the field itself: the shape functions
+/// reproduce it, their gradients are right, and the rule integrates the energy exactly.
+#[test]
+fn quadratic_fields_have_their_exact_energy() {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    for kind in [
+        ElementKind::Tri6,
+        ElementKind::Quad8,
+        ElementKind::Quad9,
+        ElementKind::Tet10,
+    ] {
+        let dim = kind.dim();
+        for _ in 0..10 {
+            let corners = transform(
+                &distorted(kind.linear(), &mut rng),
+                &Matrix3::identity(),
+                [0.0; 3],
+            );
+            let corners = if kind.linear() == ElementKind::Quad4 {
+                // A parallelogram: the fourth corner from the other three.
+                let mut c = corners;
+                c[3] = [0, 1, 2].map(|k| c[0][k] + c[2][k] - c[1][k]);
+                c
+            } else {
+                corners
+            };
+            let x = with_midpoints(kind, &corners);
+            let m = random_material(&mut rng);
+            let d = m.d_matrix(dim);
+            let field = quadratic_field(dim, &mut rng);
+            let u = DVector::from_iterator(
+                x.len() * dim,
+                x.iter()
+                    .flat_map(|p| quadratic_at(&field, dim, p).0.into_iter().take(dim)),
+            );
+            let k = stiffness(kind, &x, &m).unwrap();
+            let got = u.dot(&(&k * &u));
+            let density = |p: &[f64; 3]| energy_density(&quadratic_at(&field, dim, p).1, dim, &d);
+            let want = if kind.linear() == ElementKind::Quad4 {
+                simplex_integral(&[corners[0], corners[1], corners[2]], &density)
+                    + simplex_integral(&[corners[0], corners[2], corners[3]], &density)
+            } else {
+                simplex_integral(&corners, &density)
+            };
+            assert!(
+                (got - want).abs() <= 1e-10 * want.abs(),
+                "{kind:?}: u^T K u = {got}, the field's energy {want}"
+            );
+        }
+    }
+}
+
+/// `ElementKind::vtk_order` gives VTK's node order (VTK's documentation: a quadratic
+/// triangle's and quadrilateral's middles on `0-1, 1-2, 2-0 (3-0)`, a biquadratic
+/// quadrilateral's centre last, a quadratic tetrahedron's on `0-1, 1-2, 2-0, 0-3, 1-3, 2-3`).
+#[test]
+fn vtk_order_puts_the_middles_where_vtk_wants_them() {
+    let vtk: [(ElementKind, &[[usize; 2]]); 4] = [
+        (ElementKind::Tri6, &[[0, 1], [1, 2], [2, 0]]),
+        (ElementKind::Quad8, &[[0, 1], [1, 2], [2, 3], [3, 0]]),
+        (ElementKind::Quad9, &[[0, 1], [1, 2], [2, 3], [3, 0]]),
+        (
+            ElementKind::Tet10,
+            &[[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2, 3]],
+        ),
+    ];
+    for (kind, pairs) in vtk {
+        let x = reference(kind);
+        let order = kind.vtk_order(&(0..x.len()).collect::<Vec<_>>());
+        let corners = kind.corner_count();
+        assert_eq!(order[..corners], (0..corners).collect::<Vec<_>>()[..]);
+        for (&node, &[a, b]) in order[corners..].iter().zip(pairs) {
+            let middle = [0, 1, 2].map(|k| (x[a][k] + x[b][k]) / 2.0);
+            assert_eq!(x[node], middle, "{kind:?}: VTK node between {a} and {b}");
+        }
+    }
+    assert_eq!(ElementKind::Tri3.vtk_order(&[4, 5, 6]), [4, 5, 6]);
 }

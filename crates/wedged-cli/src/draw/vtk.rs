@@ -83,13 +83,19 @@ pub fn status_code(status: NodeStatus) -> i32 {
 /// Gmsh and VTK number the nodes of these linear elements identically: triangle and quad
 /// counterclockwise; tetrahedron with `0-1-2` a face whose right-hand normal points towards node
 /// `3`; hexahedron with the face `0-1-2-3` whose right-hand normal points towards the face
-/// `4-5-6-7`, node `4 + i` above node `i`. So connectivity is copied as is.
+/// `4-5-6-7`, node `4 + i` above node `i`. The second-order triangle and quadrilaterals add
+/// their mid-edge nodes (and centre) in the same order in both; the 10-node tetrahedron's last
+/// two mid-edge nodes are swapped ([`ElementKind::vtk_order`]).
 pub fn cell_type(kind: ElementKind) -> CellType {
     match kind {
         ElementKind::Tri3 => CellType::Triangle,
         ElementKind::Quad4 => CellType::Quad,
         ElementKind::Tet4 => CellType::Tetra,
         ElementKind::Hex8 => CellType::Hexahedron,
+        ElementKind::Tri6 => CellType::QuadraticTriangle,
+        ElementKind::Quad8 => CellType::QuadraticQuad,
+        ElementKind::Quad9 => CellType::BiquadraticQuad,
+        ElementKind::Tet10 => CellType::QuadraticTetra,
     }
 }
 
@@ -207,7 +213,13 @@ fn model(view: &View) -> Vtk {
     let mut offsets = Vec::new();
     let mut types = Vec::new();
     for element in mesh.elements() {
-        connectivity.extend(element.nodes.iter().map(|&a| a as u64));
+        connectivity.extend(
+            element
+                .kind
+                .vtk_order(&element.nodes)
+                .into_iter()
+                .map(|a| a as u64),
+        );
         offsets.push(connectivity.len() as u64);
         types.push(cell_type(element.kind));
     }

@@ -13,13 +13,14 @@
 //!
 //! - its dimension is the highest dimension of the elements in the file (2 or 3);
 //! - its body elements are all elements of that dimension, in file order, whether or not they
-//!   belong to a physical group: 3-node triangles and 4-node quadrangles in 2D, 4-node
-//!   tetrahedra and 8-node hexahedra in 3D (any other element type is an error);
+//!   belong to a physical group: triangles (3 or 6 nodes) and quadrangles (4, 8 or 9 nodes) in
+//!   2D, tetrahedra (4 or 10 nodes) and 8-node hexahedra in 3D (any other element type is an
+//!   error);
 //! - its nodes are all nodes of the file, in file order (Gmsh tags may be sparse and in any
 //!   order); in 2D the z coordinates must all be equal, and are set to 0;
 //! - its groups are the physical groups, ordered by dimension then tag, each with the elements
 //!   of the entities that carry it: points (1-node elements, or the point entity's node),
-//!   2-node lines, triangle or quadrangle faces (3D), body elements. A group without a name in
+//!   lines (2 or 3 nodes), triangle (3 or 6 nodes) or quadrangle faces (3D), body elements. A group without a name in
 //!   `$PhysicalNames` is named `<dim>:<tag>`, e.g. `1:7`.
 //!
 //! Gmsh saves only the elements that belong to a physical group unless `Mesh.SaveAll = 1`, so
@@ -35,7 +36,7 @@ use std::fmt;
 use std::path::Path;
 
 use mshio::{MshFile, MshParserError};
-use wedged::fe::{Element, ElementKind, Group, Mesh};
+use wedged::fe::{Element, Group, Mesh};
 
 /// A Gmsh mesh file could not be read, parsed or converted.
 ///
@@ -465,64 +466,6 @@ fn node_tags(
 }
 
 // ---------------------------------------------------------------------------------------------
-// Element types
-
-/// Gmsh's name and dimension of an element type.
-fn type_info(t: i32) -> (&'static str, Option<i32>) {
-    match t {
-        1 => ("2-node line", Some(1)),
-        2 => ("3-node triangle", Some(2)),
-        3 => ("4-node quadrangle", Some(2)),
-        4 => ("4-node tetrahedron", Some(3)),
-        5 => ("8-node hexahedron", Some(3)),
-        6 => ("6-node prism", Some(3)),
-        7 => ("5-node pyramid", Some(3)),
-        8 => ("3-node second-order line", Some(1)),
-        9 => ("6-node second-order triangle", Some(2)),
-        10 => ("9-node second-order quadrangle", Some(2)),
-        11 => ("10-node second-order tetrahedron", Some(3)),
-        12 => ("27-node second-order hexahedron", Some(3)),
-        13 => ("18-node second-order prism", Some(3)),
-        14 => ("14-node second-order pyramid", Some(3)),
-        15 => ("1-node point", Some(0)),
-        16 => ("8-node second-order quadrangle", Some(2)),
-        17 => ("20-node second-order hexahedron", Some(3)),
-        18 => ("15-node second-order prism", Some(3)),
-        19 => ("13-node second-order pyramid", Some(3)),
-        20 => ("9-node third-order incomplete triangle", Some(2)),
-        21 => ("10-node third-order triangle", Some(2)),
-        22 => ("12-node fourth-order incomplete triangle", Some(2)),
-        23 => ("15-node fourth-order triangle", Some(2)),
-        24 => ("15-node fifth-order incomplete triangle", Some(2)),
-        25 => ("21-node fifth-order triangle", Some(2)),
-        26 => ("4-node third-order line", Some(1)),
-        27 => ("5-node fourth-order line", Some(1)),
-        28 => ("6-node fifth-order line", Some(1)),
-        29 => ("20-node third-order tetrahedron", Some(3)),
-        30 => ("35-node fourth-order tetrahedron", Some(3)),
-        31 => ("56-node fifth-order tetrahedron", Some(3)),
-        92 => ("64-node third-order hexahedron", Some(3)),
-        93 => ("125-node fourth-order hexahedron", Some(3)),
-        _ => ("higher-order or special element", None),
-    }
-}
-
-/// The error for an element type this reader does not take.
-fn unsupported(t: i32, mesh_dim: i32) -> String {
-    let (name, _) = type_info(t);
-    let hint = if matches!(t, 1..=7 | 15) {
-        if mesh_dim == 3 {
-            "3D bodies must be meshed with 4-node tetrahedra or 8-node hexahedra"
-        } else {
-            "2D bodies must be meshed with 3-node triangles or 4-node quadrangles"
-        }
-    } else {
-        "use first-order elements (Mesh.ElementOrder = 1)"
-    };
-    format!("element type {t} ({name}) is not supported; {hint}")
-}
-
-// ---------------------------------------------------------------------------------------------
 // Conversion
 
 fn build(
@@ -617,45 +560,6 @@ fn build(
     Mesh::new(dim as usize, coords, body, groups).map_err(|e| format!("invalid mesh: {e}"))
 }
 
-/// The mesh's dimension from its elements' (Gmsh type, dimension) pairs: the highest, which
-/// must be 2 or 3 (see the error for a file without a body).
-fn mesh_dim(types: impl Iterator<Item = (i32, i32)>) -> Result<i32, String> {
-    let dim = types.map(|(_, d)| d).max().unwrap_or(-1);
-    if dim < 2 {
-        return Err(
-            "the file has no 2D or 3D elements; Gmsh saves only the elements of physical \
-             groups: add a physical surface (2D) or volume (3D) for the body, or set \
-             Mesh.SaveAll = 1"
-                .to_string(),
-        );
-    }
-    if dim > 3 {
-        return Err(format!("the file has elements of dimension {dim}"));
-    }
-    Ok(dim)
-}
-
-/// Checks that every element type (with its dimension) is one this reader takes in a
-/// `dim`-dimensional mesh: body types first, so that a second-order mesh is reported by its
-/// body element type.
-fn check_types(types: impl Iterator<Item = (i32, i32)> + Clone, dim: i32) -> Result<(), String> {
-    for (t, d) in types.clone().filter(|&(_, d)| d == dim) {
-        body_kind(t, d).ok_or_else(|| unsupported(t, dim))?;
-    }
-    for (t, d) in types.filter(|&(_, d)| d != dim) {
-        let ok = match d {
-            0 => t == 15,
-            1 => t == 1,
-            2 => t == 2 || t == 3,
-            _ => false,
-        };
-        if !ok {
-            return Err(unsupported(t, dim));
-        }
-    }
-    Ok(())
-}
-
 /// A 2D mesh's nodes: planar in z, then set to z = 0.
 fn flatten(coords: &mut [[f64; 3]]) -> Result<(), String> {
     let z0 = coords.first().map_or(0.0, |x| x[2]);
@@ -673,17 +577,6 @@ fn flatten(coords: &mut [[f64; 3]]) -> Result<(), String> {
         x[2] = 0.0;
     }
     Ok(())
-}
-
-/// The body element kind of Gmsh type `t` in a `dim`-dimensional block.
-fn body_kind(t: i32, dim: i32) -> Option<ElementKind> {
-    match (dim, t) {
-        (2, 2) => Some(ElementKind::Tri3),
-        (2, 3) => Some(ElementKind::Quad4),
-        (3, 4) => Some(ElementKind::Tet4),
-        (3, 5) => Some(ElementKind::Hex8),
-        _ => None,
-    }
 }
 
 /// The physical groups of dimension up to `dim`, ordered by dimension then tag.
@@ -766,6 +659,10 @@ fn physical_groups(
 
 #[cfg(test)]
 mod tests;
+mod types;
+use types::{body_kind, check_types, mesh_dim, type_info, unsupported};
+#[cfg(test)]
+mod tests_order2;
 #[cfg(test)]
 mod tests_v2;
 mod v2;

@@ -184,7 +184,9 @@ fn centroid(mesh: &Mesh, nodes: &[usize]) -> [f64; 3] {
 /// behind it, or `None` if no element has all of its nodes.
 fn inward_facet_normal(mesh: &Mesh, adjacency: &Adjacency, facet: &[usize]) -> Option<[f64; 3]> {
     let e = adjacency.element_with(mesh, facet)?;
-    let x: Vec<[f64; 3]> = facet.iter().map(|&a| mesh.coords()[a]).collect();
+    // A second-order facet's normal from its corners (its first nodes): the straight facet.
+    let corners = &facet[..super::facet_corners(mesh.dim(), facet.len())];
+    let x: Vec<[f64; 3]> = corners.iter().map(|&a| mesh.coords()[a]).collect();
     let raw = if mesh.dim() == 2 {
         // Perpendicular to the edge, |raw| = length.
         let d = [x[1][0] - x[0][0], x[1][1] - x[0][1], 0.0];
@@ -201,7 +203,7 @@ fn inward_facet_normal(mesh: &Mesh, adjacency: &Adjacency, facet: &[usize]) -> O
         scaled(&nrm, 0.5)
     };
     let inside = centroid(mesh, &mesh.elements()[e].nodes);
-    let here = centroid(mesh, facet);
+    let here = centroid(mesh, corners);
     let towards = [
         inside[0] - here[0],
         inside[1] - here[1],
@@ -249,7 +251,10 @@ fn group_normals(
     }
     let mut normals: BTreeMap<usize, [f64; 3]> = BTreeMap::new();
     for facet in &group.entities {
-        let ok = matches!((mesh.dim(), facet.len()), (2, 2) | (3, 3) | (3, 4));
+        let ok = matches!(
+            (mesh.dim(), facet.len()),
+            (2, 2) | (2, 3) | (3, 3) | (3, 4) | (3, 6)
+        );
         if !ok {
             return Err(FeError::InvalidBoundary(format!(
                 "{role} group '{}' has a facet with {} nodes",

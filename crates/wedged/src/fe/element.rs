@@ -16,9 +16,16 @@
 //! | Tet4  | `1-r-s-t, r, s, t`                                | `(1/4, 1/4, 1/4)`, `w = 1/6`    |
 //! | Hex8  | `(1 + r r_a)(1 + s s_a)(1 + t t_a)/8`             | `(±1/√3, ±1/√3, ±1/√3)`, `w = 1`|
 //!
+//! | Tri6  | corners `L(2L-1)`, mid-edge `4 L_a L_b` (`L` the barycentrics `1-r-s, r, s`) | `(1/6, 1/6)`, `(2/3, 1/6)`, `(1/6, 2/3)`, `w = 1/6` |
+//! | Tet10 | the same with `1-r-s-t, r, s, t`                  | `(a, b, b)` and permutations, `a = (5 + 3√5)/20`, `b = (5 - √5)/20`, `w = 1/24` |
+//! | Quad8 | corners `(1 + r r_a)(1 + s s_a)(r r_a + s s_a - 1)/4`, mid-edge `(1 - r²)(1 + s s_a)/2` or `(1 + r r_a)(1 - s²)/2` | 3x3 Gauss: `0, ±√(3/5)`, `w = 8/9, 5/9` each way |
+//! | Quad9 | `l_a(r) l_a(s)`, `l` the quadratic Lagrange polynomials on `-1, 0, 1` | 3x3 Gauss |
+//!
 //! The triangle and the tetrahedron are constant strain (one point is exact); 2x2 (2x2x2) Gauss
 //! integrates the bilinear (trilinear) element exactly when it is a parallelogram
-//! (parallelepiped). 2D elements have unit thickness and use `x, y` only, with `D` from
+//! (parallelepiped); the quadratic triangle's and tetrahedron's points integrate their (linear
+//! strain) stiffness exactly when their edges are straight, and 3x3 Gauss the quadratic
+//! quadrilaterals' when they are parallelograms. 2D elements have unit thickness and use `x, y` only, with `D` from
 //! [`Material::d_matrix`] (plane strain or plane stress already in it).
 //!
 //! Voigt orders: 2D strain `[xx, yy, xy]`; 3D `[xx, yy, zz, yz, xz, xy]`. For node `a` with
@@ -28,8 +35,8 @@
 //! 2D: [gx 0; 0 gy; gy gx]      3D: [gx 0 0; 0 gy 0; 0 0 gz; 0 gz gy; gz 0 gx; gy gx 0]
 //! ```
 //!
-//! Validity: `det J` is evaluated at the integration points and, for Quad4 and Hex8, also at the
-//! corners and the centroid. Every value negative (a mirrored element) is accepted and integrated
+//! Validity: `det J` is evaluated at the integration points and the centroid, and (all but
+//! Tri3 and Tet4, whose `J` is constant) at the corners. Every value negative (a mirrored element) is accepted and integrated
 //! with `|det J|`; values of both signs, or a vanishing value at an integration point or the
 //! centroid (`|det J| <= 1e-12 h^dim`, `h` the diagonal of the element's bounding box), are an
 //! error. A corner where `det J` merely vanishes (a 180° angle, a collapsed edge) is tolerated.
@@ -37,16 +44,18 @@
 use super::{ElementKind, Material};
 use nalgebra::DMatrix;
 
-/// Largest number of nodes of an element (Hex8).
-const MAX_NODES: usize = 8;
-/// Largest number of integration points (Hex8).
-const MAX_POINTS: usize = 8;
+/// Largest number of nodes of an element (Tet10).
+const MAX_NODES: usize = 10;
+/// Largest number of integration points (Quad8, Quad9).
+const MAX_POINTS: usize = 9;
 /// Largest number of dofs of an element.
 const MAX_DOFS: usize = 3 * MAX_NODES;
 /// Largest number of strain components.
 const MAX_STRAINS: usize = 6;
 /// The 2-point Gauss abscissa `1/sqrt(3)`.
 const GP: f64 = 0.577_350_269_189_625_8;
+/// The 3-point Gauss abscissa `sqrt(3/5)`.
+const G3: f64 = 0.774_596_669_241_483_4;
 /// Relative threshold below which `|det J|` counts as zero.
 const DEGENERATE: f64 = 1e-12;
 
@@ -68,7 +77,62 @@ const HEX_CORNERS: [[f64; 3]; 8] = [
     [1.0, 1.0, 1.0],
     [-1.0, 1.0, 1.0],
 ];
+/// Tri6 reference corners (the Tri3's too).
+const TRI_CORNERS: [[f64; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// Tet10 reference corners.
+const TET_CORNERS: [[f64; 3]; 4] = [
+    [0.0, 0.0, 0.0],
+    [1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [0.0, 0.0, 1.0],
+];
+/// The corner pairs of the mid-edge nodes of Tri6 (nodes 3..6) and Tet10 (nodes 4..10).
+const TRI6_EDGES: [[usize; 2]; 3] = [[0, 1], [1, 2], [2, 0]];
+const TET10_EDGES: [[usize; 2]; 6] = [[0, 1], [1, 2], [0, 2], [0, 3], [2, 3], [1, 3]];
+/// Quad8 and Quad9 reference nodes (Gmsh order): corners, mid-edges, centre.
+const QUAD9_NODES: [[f64; 3]; 9] = [
+    [-1.0, -1.0, 0.0],
+    [1.0, -1.0, 0.0],
+    [1.0, 1.0, 0.0],
+    [-1.0, 1.0, 0.0],
+    [0.0, -1.0, 0.0],
+    [1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [-1.0, 0.0, 0.0],
+    [0.0, 0.0, 0.0],
+];
 const TRI_POINTS: [[f64; 3]; 1] = [[1.0 / 3.0, 1.0 / 3.0, 0.0]];
+const TRI6_POINTS: [[f64; 3]; 3] = [
+    [1.0 / 6.0, 1.0 / 6.0, 0.0],
+    [2.0 / 3.0, 1.0 / 6.0, 0.0],
+    [1.0 / 6.0, 2.0 / 3.0, 0.0],
+];
+/// `(5 + 3 sqrt 5) / 20` and `(5 - sqrt 5) / 20`: the 4-point rule of the tetrahedron.
+const TA: f64 = 0.585_410_196_624_968_5;
+const TB: f64 = 0.138_196_601_125_010_5;
+const TET10_POINTS: [[f64; 3]; 4] = [[TB, TB, TB], [TA, TB, TB], [TB, TA, TB], [TB, TB, TA]];
+const QUAD9_POINTS: [[f64; 3]; 9] = [
+    [-G3, -G3, 0.0],
+    [0.0, -G3, 0.0],
+    [G3, -G3, 0.0],
+    [-G3, 0.0, 0.0],
+    [0.0, 0.0, 0.0],
+    [G3, 0.0, 0.0],
+    [-G3, G3, 0.0],
+    [0.0, G3, 0.0],
+    [G3, G3, 0.0],
+];
+const QUAD9_WEIGHTS: [f64; 9] = [
+    25.0 / 81.0,
+    40.0 / 81.0,
+    25.0 / 81.0,
+    40.0 / 81.0,
+    64.0 / 81.0,
+    40.0 / 81.0,
+    25.0 / 81.0,
+    40.0 / 81.0,
+    25.0 / 81.0,
+];
 const TET_POINTS: [[f64; 3]; 1] = [[0.25, 0.25, 0.25]];
 const QUAD_POINTS: [[f64; 3]; 4] = [
     [-GP, -GP, 0.0],
@@ -87,22 +151,56 @@ const HEX_POINTS: [[f64; 3]; 8] = [
     [-GP, GP, GP],
 ];
 
-/// The integration points of an element (reference coordinates) and their common weight.
-fn integration_points(kind: ElementKind) -> (&'static [[f64; 3]], f64) {
+/// The integration points of an element (reference coordinates) and their weights.
+fn integration_points(kind: ElementKind) -> (&'static [[f64; 3]], &'static [f64]) {
     match kind {
-        ElementKind::Tri3 => (&TRI_POINTS, 0.5),
-        ElementKind::Quad4 => (&QUAD_POINTS, 1.0),
-        ElementKind::Tet4 => (&TET_POINTS, 1.0 / 6.0),
-        ElementKind::Hex8 => (&HEX_POINTS, 1.0),
+        ElementKind::Tri3 => (&TRI_POINTS, &[0.5]),
+        ElementKind::Quad4 => (&QUAD_POINTS, &[1.0; 4]),
+        ElementKind::Tet4 => (&TET_POINTS, &[1.0 / 6.0]),
+        ElementKind::Hex8 => (&HEX_POINTS, &[1.0; 8]),
+        ElementKind::Tri6 => (&TRI6_POINTS, &[1.0 / 6.0; 3]),
+        ElementKind::Tet10 => (&TET10_POINTS, &[1.0 / 24.0; 4]),
+        ElementKind::Quad8 | ElementKind::Quad9 => (&QUAD9_POINTS, &QUAD9_WEIGHTS),
     }
 }
 
 /// The reference centroid.
 fn centroid(kind: ElementKind) -> [f64; 3] {
-    match kind {
+    match kind.linear() {
         ElementKind::Tri3 => TRI_POINTS[0],
         ElementKind::Tet4 => TET_POINTS[0],
-        ElementKind::Quad4 | ElementKind::Hex8 => [0.0; 3],
+        _ => [0.0; 3],
+    }
+}
+
+/// The barycentric coordinates of a simplex's reference point, with their gradients.
+fn barycentric(dim: usize, xi: [f64; 3]) -> ([f64; 4], [[f64; 3]; 4]) {
+    let l0 = 1.0 - xi[..dim].iter().sum::<f64>();
+    let mut l = [l0, xi[0], xi[1], 0.0];
+    let mut g = [
+        [-1.0, -1.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0; 3],
+    ];
+    if dim == 3 {
+        l[3] = xi[2];
+        g = [
+            [-1.0, -1.0, -1.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ];
+    }
+    (l, g)
+}
+
+/// The quadratic Lagrange polynomial on `-1, 0, 1` that is 1 at `at` and its derivative, at `x`.
+fn lagrange(at: f64, x: f64) -> (f64, f64) {
+    if at == 0.0 {
+        (1.0 - x * x, -2.0 * x)
+    } else {
+        (0.5 * x * (x + at), x + 0.5 * at)
     }
 }
 
@@ -126,6 +224,43 @@ fn reference_gradients(kind: ElementKind, xi: [f64; 3]) -> [[f64; 3]; MAX_NODES]
             for (ga, c) in g.iter_mut().zip(&QUAD_CORNERS) {
                 let f = [1.0 + xi[0] * c[0], 1.0 + xi[1] * c[1]];
                 *ga = [c[0] * f[1] / 4.0, c[1] * f[0] / 4.0, 0.0];
+            }
+        }
+        ElementKind::Tri6 | ElementKind::Tet10 => {
+            // Corners L_a (2 L_a - 1), mid-edge nodes 4 L_a L_b.
+            let dim = kind.dim();
+            let (l, gl) = barycentric(dim, xi);
+            for a in 0..=dim {
+                g[a] = gl[a].map(|d| (4.0 * l[a] - 1.0) * d);
+            }
+            let edges: &[[usize; 2]] = if dim == 2 { &TRI6_EDGES } else { &TET10_EDGES };
+            for (ga, &[a, b]) in g[dim + 1..].iter_mut().zip(edges) {
+                for j in 0..3 {
+                    ga[j] = 4.0 * (gl[a][j] * l[b] + l[a] * gl[b][j]);
+                }
+            }
+        }
+        ElementKind::Quad8 => {
+            for (ga, c) in g.iter_mut().zip(&QUAD9_NODES[..8]) {
+                let (r, s) = (xi[0], xi[1]);
+                *ga = if c[0] != 0.0 && c[1] != 0.0 {
+                    // (1 + r r_a)(1 + s s_a)(r r_a + s s_a - 1) / 4.
+                    let (fr, fs) = (1.0 + r * c[0], 1.0 + s * c[1]);
+                    let q = r * c[0] + s * c[1] - 1.0;
+                    [c[0] * fs * (q + fr) / 4.0, c[1] * fr * (q + fs) / 4.0, 0.0]
+                } else if c[0] == 0.0 {
+                    // (1 - r^2)(1 + s s_a) / 2.
+                    [-r * (1.0 + s * c[1]), c[1] * (1.0 - r * r) / 2.0, 0.0]
+                } else {
+                    // (1 + r r_a)(1 - s^2) / 2.
+                    [c[0] * (1.0 - s * s) / 2.0, -s * (1.0 + r * c[0]), 0.0]
+                };
+            }
+        }
+        ElementKind::Quad9 => {
+            for (ga, c) in g.iter_mut().zip(&QUAD9_NODES) {
+                let ((lr, dr), (ls, ds)) = (lagrange(c[0], xi[0]), lagrange(c[1], xi[1]));
+                *ga = [dr * ls, lr * ds, 0.0];
             }
         }
         ElementKind::Hex8 => {
@@ -244,8 +379,10 @@ fn prepare(kind: ElementKind, x: &[[f64; 3]]) -> Result<Prepared, String> {
     let points_used = &points[..xis.len()];
     let centroid = map_point(kind, x, centroid(kind));
     let corners: &[[f64; 3]] = match kind {
-        ElementKind::Quad4 => &QUAD_CORNERS,
+        ElementKind::Quad4 | ElementKind::Quad8 | ElementKind::Quad9 => &QUAD_CORNERS,
         ElementKind::Hex8 => &HEX_CORNERS,
+        ElementKind::Tri6 => &TRI_CORNERS,
+        ElementKind::Tet10 => &TET_CORNERS,
         ElementKind::Tri3 | ElementKind::Tet4 => &[],
     };
     let corner_dets = corners.iter().map(|&xi| map_point(kind, x, xi).det);
@@ -275,7 +412,7 @@ fn prepare(kind: ElementKind, x: &[[f64; 3]]) -> Result<Prepared, String> {
         ));
     }
     let mut weights = [0.0; MAX_POINTS];
-    for (wp, p) in weights.iter_mut().zip(points_used) {
+    for ((wp, p), w) in weights.iter_mut().zip(points_used).zip(w) {
         *wp = w * p.det.abs();
     }
     Ok(Prepared {

@@ -411,6 +411,7 @@ mod tests {
                     })
                     .sum()
             }
+            _ => unreachable!("the generator makes first-order elements"),
         }
     }
 

@@ -33,7 +33,8 @@ pub use boundary::{Boundary, BoundarySpec, ContactSpec, Frame};
 pub use condense::{Condensed, Configuration, Model};
 pub use material::{Material, Plane};
 
-/// A body element type.
+/// A body element type. Node orders are Gmsh's: the corners, then (second order) the
+/// mid-edge nodes, edge by edge, then the centre (`Quad9`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ElementKind {
     /// 3-node triangle (2D).
@@ -44,14 +45,28 @@ pub enum ElementKind {
     Tet4,
     /// 8-node hexahedron (3D), trilinear, 2x2x2 Gauss points.
     Hex8,
+    /// 6-node triangle (2D), quadratic; mid-edge nodes on `0-1`, `1-2`, `2-0`.
+    Tri6,
+    /// 8-node quadrilateral (2D), quadratic serendipity, 3x3 Gauss points; mid-edge nodes on
+    /// `0-1`, `1-2`, `2-3`, `3-0`.
+    Quad8,
+    /// 9-node quadrilateral (2D), biquadratic, 3x3 Gauss points: `Quad8` and the centre.
+    Quad9,
+    /// 10-node tetrahedron (3D), quadratic; mid-edge nodes on `0-1`, `1-2`, `0-2`, `0-3`,
+    /// `2-3`, `1-3` (Gmsh's order; VTK's swaps the last two).
+    Tet10,
 }
 
 impl ElementKind {
     /// Spatial dimension of the element.
     pub fn dim(self) -> usize {
         match self {
-            ElementKind::Tri3 | ElementKind::Quad4 => 2,
-            ElementKind::Tet4 | ElementKind::Hex8 => 3,
+            ElementKind::Tri3
+            | ElementKind::Quad4
+            | ElementKind::Tri6
+            | ElementKind::Quad8
+            | ElementKind::Quad9 => 2,
+            ElementKind::Tet4 | ElementKind::Hex8 | ElementKind::Tet10 => 3,
         }
     }
 
@@ -60,7 +75,25 @@ impl ElementKind {
         match self {
             ElementKind::Tri3 => 3,
             ElementKind::Quad4 | ElementKind::Tet4 => 4,
-            ElementKind::Hex8 => 8,
+            ElementKind::Tri6 => 6,
+            ElementKind::Hex8 | ElementKind::Quad8 => 8,
+            ElementKind::Quad9 => 9,
+            ElementKind::Tet10 => 10,
+        }
+    }
+
+    /// The number of corner nodes (the first ones): the linear element's.
+    pub fn corner_count(self) -> usize {
+        self.linear().node_count()
+    }
+
+    /// The first-order element with the same corners.
+    pub fn linear(self) -> ElementKind {
+        match self {
+            ElementKind::Tri3 | ElementKind::Tri6 => ElementKind::Tri3,
+            ElementKind::Quad4 | ElementKind::Quad8 | ElementKind::Quad9 => ElementKind::Quad4,
+            ElementKind::Tet4 | ElementKind::Tet10 => ElementKind::Tet4,
+            ElementKind::Hex8 => ElementKind::Hex8,
         }
     }
 
@@ -71,12 +104,18 @@ impl ElementKind {
             ElementKind::Quad4 => "4-node quadrilateral",
             ElementKind::Tet4 => "4-node tetrahedron",
             ElementKind::Hex8 => "8-node hexahedron",
+            ElementKind::Tri6 => "6-node triangle",
+            ElementKind::Quad8 => "8-node quadrilateral",
+            ElementKind::Quad9 => "9-node quadrilateral",
+            ElementKind::Tet10 => "10-node tetrahedron",
         }
     }
 
     /// The element's faces (3D) or edges (2D), as local node indices, each ordered so that its
     /// normal by the right-hand rule points out of the element (for a positively oriented
-    /// element).
+    /// element): the corners, then (second order) the mid-edge nodes, as Gmsh orders a 3-node
+    /// line (`a, b, mid`) and a 6-node triangle (the corners, then the middles of `0-1`, `1-2`,
+    /// `2-0`).
     pub fn facets(self) -> &'static [&'static [usize]] {
         match self {
             ElementKind::Tri3 => &[&[0, 1], &[1, 2], &[2, 0]],
@@ -90,7 +129,54 @@ impl ElementKind {
                 &[2, 3, 7, 6],
                 &[3, 0, 4, 7],
             ],
+            ElementKind::Tri6 => &[&[0, 1, 3], &[1, 2, 4], &[2, 0, 5]],
+            ElementKind::Quad8 | ElementKind::Quad9 => {
+                &[&[0, 1, 4], &[1, 2, 5], &[2, 3, 6], &[3, 0, 7]]
+            }
+            ElementKind::Tet10 => &[
+                &[0, 2, 1, 6, 5, 4],
+                &[0, 1, 3, 4, 9, 7],
+                &[1, 2, 3, 5, 8, 9],
+                &[0, 3, 2, 7, 8, 6],
+            ],
         }
+    }
+
+    /// A 2D element's boundary as a closed polygon of local nodes, counterclockwise for a
+    /// positively oriented element (corners and mid-edge nodes in turn); a 3D element's nodes.
+    pub fn outline(self) -> &'static [usize] {
+        match self {
+            ElementKind::Tri3 => &[0, 1, 2],
+            ElementKind::Quad4 | ElementKind::Tet4 => &[0, 1, 2, 3],
+            ElementKind::Tri6 => &[0, 3, 1, 4, 2, 5],
+            ElementKind::Quad8 | ElementKind::Quad9 => &[0, 4, 1, 5, 2, 6, 3, 7],
+            ElementKind::Hex8 => &[0, 1, 2, 3, 4, 5, 6, 7],
+            ElementKind::Tet10 => &[0, 1, 2, 3, 4, 5, 6, 7, 8, 9],
+        }
+    }
+}
+
+impl ElementKind {
+    /// The element's nodes in VTK's (and meshio's) order, from the mesh's (Gmsh's): the same but
+    /// for the 10-node tetrahedron, whose mid-edge nodes are on `0-1, 1-2, 0-2, 0-3, 2-3, 1-3`
+    /// in Gmsh and `0-1, 1-2, 0-2, 0-3, 1-3, 2-3` in VTK.
+    pub fn vtk_order(self, nodes: &[usize]) -> Vec<usize> {
+        let mut out = nodes.to_vec();
+        if self == ElementKind::Tet10 && out.len() == 10 {
+            out.swap(8, 9);
+        }
+        out
+    }
+}
+
+/// The number of corners of a facet (an edge or a face) with `len` nodes in a `dim`-dimensional
+/// mesh: its first nodes ([`ElementKind::facets`]).
+pub fn facet_corners(dim: usize, len: usize) -> usize {
+    match (dim, len) {
+        (2, _) => 2,
+        (_, 6) => 3,
+        (_, 8 | 9) => 4,
+        _ => len,
     }
 }
 

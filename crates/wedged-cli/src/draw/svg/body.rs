@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use wedged::NodeStatus;
 
 use super::geometry::{
-    add3, boundary_facets, contact_face_normals, dot3, outward_2d, unit2, unit3,
+    add3, around, boundary_facets, contact_face_normals, dot3, outward_2d, unit2, unit3,
 };
 use super::scene::Scene;
 use super::{escape, points, px, status_style, Svg, ARROW, INK, P2, P3};
@@ -109,7 +109,12 @@ pub(super) fn draw_body_2d(svg: &mut Svg, scene: &Scene) {
     let view = scene.view;
     svg.raw("<g class=\"deformed\" stroke=\"#1a1a1a\" stroke-width=\"0.6\" stroke-opacity=\"0.55\" stroke-linejoin=\"round\">\n");
     for (e, element) in view.mesh.elements().iter().enumerate() {
-        let ps: Option<Vec<P2>> = element.nodes.iter().map(|&a| scene.deformed(a)).collect();
+        let ps: Option<Vec<P2>> = element
+            .kind
+            .outline()
+            .iter()
+            .map(|&i| scene.deformed(element.nodes[i]))
+            .collect();
         let Some(ps) = ps else { continue };
         let fill = scene.fill(e, 1.0).unwrap_or_else(|| "none".to_string());
         let _ = writeln!(
@@ -253,7 +258,7 @@ pub(super) fn draw_body_3d(svg: &mut Svg, scene: &Scene) {
         if f.len() < 3 || !visible {
             continue;
         }
-        for (k, &a) in f.iter().enumerate() {
+        for (k, &a) in around(f).iter().enumerate() {
             let p = scene.at(x[a]);
             let _ = write!(
                 d,

@@ -74,7 +74,7 @@ pub(super) fn contact_face_normals(view: &View) -> Vec<Option<P3>> {
             if f.len() < 3 {
                 return None;
             }
-            let n = polygon_normal(&f.iter().map(|&a| x[a]).collect::<Vec<_>>());
+            let n = polygon_normal(&around(f).iter().map(|&a| x[a]).collect::<Vec<_>>());
             let inward = f
                 .iter()
                 .filter_map(|a| index.get(a))
@@ -154,6 +154,16 @@ impl Projection {
     /// Distance towards the viewer (3D), for painter's order.
     pub(super) fn depth(self, p: P3) -> f64 {
         dot3(p, self.towards)
+    }
+}
+
+/// A 3D facet's nodes around its boundary: a second-order face (corners, then the middles of
+/// its edges, [`wedged::fe::ElementKind::facets`]) with each middle between its corners; other
+/// facets as they are.
+pub(super) fn around(f: &[usize]) -> Vec<usize> {
+    match f.len() {
+        6 => vec![f[0], f[3], f[1], f[4], f[2], f[5]],
+        _ => f.to_vec(),
     }
 }
 

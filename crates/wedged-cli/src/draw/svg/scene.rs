@@ -1,7 +1,7 @@
 //! The picture's layout: the page's drawing area and the mesh projected onto it (`Scene`).
 
 use super::geometry::{
-    add3, boundary_facets, dot3, finite3, mean3, norm3, polygon_normal, unit3, Projection,
+    add3, around, boundary_facets, dot3, finite3, mean3, norm3, polygon_normal, unit3, Projection,
 };
 use super::{
     round3, shaded, ARROW_FRACTION, BOTTOM, DISPLACEMENT_FRACTION, HEIGHT, MARGIN, P2, P3, PAD,
@@ -211,6 +211,7 @@ impl<'v, 'a> Scene<'v, 'a> {
         let mut faces = Vec::new();
         let mut visible = vec![false; self.visible.len()];
         for (e, f) in boundary_facets(view) {
+            let f = around(&f);
             let ps: Option<Vec<P3>> = f.iter().map(|&a| self.deformed[a]).collect();
             let Some(ps) = ps else { continue };
             let element = &view.mesh.elements()[e].nodes;

@@ -1,6 +1,7 @@
 //! Tests of `msh.rs`.
 
 use super::*;
+use wedged::fe::ElementKind;
 
 pub(super) fn fixture(name: &str) -> std::path::PathBuf {
     Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/msh")).join(name)
@@ -267,11 +268,12 @@ fn box3d_hex_counts() {
 
 #[test]
 fn fixture_errors() {
-    let e = fixture_error("second_order.msh");
+    let e = fixture_error("third_order.msh");
     assert!(
         e.contains(
-            "element type 9 (6-node second-order triangle) is not supported; \
-             use first-order elements (Mesh.ElementOrder = 1)"
+            "element type 21 (10-node third-order triangle) is not supported; \
+             use first-order elements (Mesh.ElementOrder = 1), or second-order triangles, \
+             quadrangles or tetrahedra (Mesh.ElementOrder = 2)"
         ),
         "{e}"
     );
@@ -496,7 +498,10 @@ fn content_errors() {
         );
     let e = error(tet.as_bytes(), "tet.msh");
     assert!(
-        e.contains("element type 8 (3-node second-order line) is not supported"),
+        e.contains(
+            "element type 8 (3-node second-order line) is not of the order of the body's \
+             elements (first order)"
+        ),
         "{e}"
     );
 }

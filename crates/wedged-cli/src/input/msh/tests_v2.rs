@@ -2,6 +2,7 @@
 
 use super::tests::{body_as_group, counts, error, fixture, group, load, owned};
 use super::*;
+use wedged::fe::ElementKind;
 
 // --- MSH 2.2 --------------------------------------------------------------------------------
 
@@ -103,8 +104,12 @@ fn msh22_errors() {
             "element 2 refers to node 4, which is not in $Nodes",
         ),
         (
-            square22(&[], &["9 2 5 1 7 3 9 1 1 1"]),
-            "element type 9 (6-node second-order triangle) is not supported; use first-order",
+            square22(&[], &["21 2 5 1 7 3 9 1 1 1 1 1 1 1"]),
+            "element type 21 (10-node third-order triangle) is not supported; use first-order",
+        ),
+        (
+            square22(&[], &[TRIANGLES[0], "9 2 5 1 7 9 1 1 1 1"]),
+            "the body mixes first- and second-order elements",
         ),
         (
             square22(&[], &["1 2 5 1 7 3"]),
