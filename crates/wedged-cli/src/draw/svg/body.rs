@@ -299,7 +299,8 @@ pub(super) fn draw_supports(svg: &mut Svg, scene: &Scene) {
     if !scene.projection.three_d {
         for (e, f) in boundary_facets(view) {
             if let Some(o) = outward_2d(view, e, f[0], f[1]) {
-                for a in [f[0], f[1]] {
+                // The edge's ends, and its middle on a second-order mesh.
+                for &a in &f {
                     let s = outward.entry(a).or_insert([0.0; 2]);
                     s[0] += o[0];
                     s[1] += o[1];
