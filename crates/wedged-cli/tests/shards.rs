@@ -240,6 +240,7 @@ fn critical_shards_merge_to_the_one_run_bracket() {
     );
     let whole = json(&whole_path);
     let count = 3;
+    let mut wedged_parts = 0;
     let parts: Vec<PathBuf> = (1..=count)
         .map(|i| {
             let part = dir.path().join(format!("c-{i}.json"));
@@ -253,10 +254,25 @@ fn critical_shards_merge_to_the_one_run_bracket() {
                 part.to_str().unwrap(),
             ]);
             assert_code(&out, 0);
-            assert!(text(&out.stdout).contains(&format!("shard {shard}: the search split")));
+            let stdout = text(&out.stdout);
+            assert!(stdout.contains(&format!("shard {shard}: the search split")));
+            // A part's lower end rules out its own contact sets only, and says so.
+            if stdout.contains("mu* = ") {
+                wedged_parts += 1;
+                assert!(stdout.contains("this part: mu* = "), "{stdout}");
+                assert!(
+                    stdout.contains("no contact set of this part of the search wedges"),
+                    "{stdout}"
+                );
+                assert!(
+                    !stdout.contains("no friction coefficient wedges"),
+                    "{stdout}"
+                );
+            }
             part
         })
         .collect();
+    assert!(wedged_parts > 0, "no part found a wedge");
     let merged_path = dir.path().join("merged.json");
     let out = merge(&parts, &merged_path);
     assert_code(&out, 0);

@@ -368,17 +368,33 @@ pub fn render(
         settings.tol
     );
     if let Some(s) = result.shard {
+        let split = if s.units == 0 {
+            "stopped before the search was split into units".to_string()
+        } else {
+            format!(
+                "the search split at depth {} into {} units, {} of them here",
+                s.split_depth, s.units, s.own_units
+            )
+        };
         let _ = writeln!(
             out,
-            "shard {}/{}: the search split at depth {} into {} units, {} of them here; this is \
-             this part's bracket: `wedged merge` the parts for mu*",
-            s.index, s.count, s.split_depth, s.units, s.own_units
+            "shard {}/{}: {split}; this is this part's bracket: `wedged merge` the parts for mu*",
+            s.index, s.count
         );
     }
     match (result.status, result.upper) {
         (CriticalStatus::Wedged | CriticalStatus::Never, _) => {
+            // A shard proves its part of the search only: its lower end rules out that part's
+            // contact sets, not the body's.
+            let (part, below) = match result.shard {
+                Some(_) => (
+                    "this part: ",
+                    "no contact set of this part of the search wedges",
+                ),
+                None => ("", "no friction coefficient wedges"),
+            };
             if let Some(line) = answer_line(result, settings.tol) {
-                let _ = writeln!(out, "{line}");
+                let _ = writeln!(out, "{part}{line}");
             }
             if let (CriticalStatus::Wedged, Some(lower), Some(upper)) =
                 (result.status, result.lower, result.upper)
@@ -389,9 +405,9 @@ pub fn render(
                     2,
                     2,
                     &format!(
-                        "(below {lo} no friction coefficient wedges the body, by checked \
-                         infeasibility certificates; at {up} the configuration below does, \
-                         checked against the wedged problem)"
+                        "(below {lo} {below} the body, by checked infeasibility certificates; \
+                         at {up} the configuration below does, checked against the wedged \
+                         problem)"
                     ),
                 );
             }
