@@ -179,7 +179,9 @@ moves where the search starts: mu* does not depend on it). Two derived keys for 
   refine       a whole factor multiplying its division counts (nx, ny, nz, n)
 With refine (or a division count) first, the plot is against the mesh size h, and the
 summary extrapolates mu* to h = 0 (Richardson, through the three finest meshes), or says
-that it grows like ln(1/h) (no finite limit) when that is what the three finest show.
+that it grows like ln(1/h) (no finite limit) when that is what the three finest show. A
+Gmsh script's mesh size does the same when it is varied first with --x h:
+  wedged study plug.toml --vary mesh.parameters.lc=0.2,0.1,0.07,0.05 --x h --out sizes
 
   wedged study examples/plug2d.toml --vary refine=1,2,3,4 --out plug-study
   wedged study examples/plug2d.toml --vary half_angle=15:45:7 --vary material.poisson=0.2,0.3 \\

@@ -111,3 +111,18 @@ def test_a_study_varies_the_scripts_parameters(tmp_path):
     mus = [float(r["mu_star"]) for r in rows]
     assert all(r["complete"] == "true" for r in rows)
     assert mus[0] != mus[1]
+
+
+def test_a_mesh_size_study_of_a_script_extrapolates(tmp_path):
+    """The script's mesh size varied first, against h: one line, extrapolated to h = 0."""
+    out = tmp_path / "sizes"
+    done = subprocess.run(
+        [str(wedged_bin()), "study", str(EXAMPLES / "plug2d_geo.toml"),
+         "--vary", "mesh.parameters.lc=0.2,0.1,0.07,0.05", "--x", "h", "--out", str(out)],
+        capture_output=True, text=True,
+    )
+    assert done.returncode == 0, done.stderr
+    rows = list(csv.DictReader((out / "study.csv").open()))
+    hs = [float(r["h"]) for r in rows]
+    assert hs == sorted(hs, reverse=True) and len(set(hs)) == 4
+    assert "extrapolated to h = 0: mu* = " in done.stdout, done.stdout

@@ -212,9 +212,15 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
         .filter_map(|(p, r)| r.as_ref().map(|r| (p, r)))
         .collect();
     let x_index = parameters.iter().position(|p| p.key == x_key);
-    // Against h, the keys that refine the mesh are the x axis, not a line's label.
-    let on_x =
-        |j: usize| Some(j) == x_index || (x_key == "h" && study::refines(&parameters[j].key));
+    // Against h, the keys that refine the mesh are the x axis, not a line's label: `refine`
+    // and the division counts, and a Gmsh script's parameter varied first (its mesh size, as
+    // `--x h` says: which of a script's numbers sets its mesh size only the user knows).
+    let on_x = |j: usize| {
+        let key = &parameters[j].key;
+        Some(j) == x_index
+            || (x_key == "h"
+                && (study::refines(key) || (j == 0 && key.starts_with("mesh.parameters."))))
+    };
     let mut series: Vec<Series> = Vec::new();
     for (point, row) in &done {
         let label: Vec<String> = parameters
