@@ -3,6 +3,7 @@ documents compared without their timings."""
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import os
 import subprocess
@@ -81,3 +82,11 @@ def plug_toml(tmp_path: Path, n: int, mu: float = 2.0, element: str = "tri") -> 
     path = tmp_path / f"plug_{n}.toml"
     path.write_text(text)
     return path
+
+
+def skfem_example():
+    """examples/python/skfem_plug.py as a module (it needs scikit-fem and meshio)."""
+    spec = importlib.util.spec_from_file_location("skfem_plug", EXAMPLES / "python" / "skfem_plug.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module

@@ -4,24 +4,16 @@ the K that scikit-fem's quadratic triangles (ElementTriP2) and SciPy give, node 
 
 from __future__ import annotations
 
-import importlib.util
 
 import numpy as np
 import pytest
 import scipy.sparse.linalg as spla
 
 import wedged
-from conftest import EXAMPLES, cli_json
+from conftest import cli_json, skfem_example
 
 pytest.importorskip("skfem")
 meshio = pytest.importorskip("meshio")
-
-
-def example():
-    spec = importlib.util.spec_from_file_location("skfem_plug", EXAMPLES / "python" / "skfem_plug.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def skfem_condensed(plug, n):
@@ -80,7 +72,7 @@ def write_tri6(plug, n, path):
 
 @pytest.mark.parametrize("n", [2, 4])
 def test_six_node_triangles_condense_as_scikit_fem_assembles_them(tmp_path, n):
-    plug = example()
+    plug = skfem_example()
     toml = write_tri6(plug, n, tmp_path / "plug6.msh")
     problem = wedged.load(toml)
     ours = problem.mesh()

@@ -4,24 +4,16 @@ meshio and read by the command)."""
 
 from __future__ import annotations
 
-import importlib.util
 import sys
 
 import numpy as np
 import pytest
 
 import wedged
-from conftest import EXAMPLES, cli_json
+from conftest import cli_json, skfem_example
 
 pytest.importorskip("skfem")
 pytest.importorskip("meshio")
-
-
-def example():
-    spec = importlib.util.spec_from_file_location("skfem_plug", EXAMPLES / "python" / "skfem_plug.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def pieces_by_place(patterns, places):
@@ -39,7 +31,7 @@ def places(points, nodes):
 
 @pytest.mark.parametrize("n", [6, 10])
 def test_python_and_the_command_agree_on_the_same_mesh(tmp_path, n):
-    plug = example()
+    plug = skfem_example()
     k, contact, _, _ = plug.condensed_plug(n)
     toml = plug.write_msh(n, tmp_path / "plug.msh", 2.0)
     command = cli_json("critical", str(toml))
@@ -62,7 +54,7 @@ def test_python_and_the_command_agree_on_the_same_mesh(tmp_path, n):
 def test_meshios_msh22_reads_as_its_msh41(tmp_path, binary):
     """The legacy MSH 2.2 (meshio's writer, ASCII and binary) gives the MSH 4.1 file's mesh
     and mu*, in the command and in Python."""
-    plug = example()
+    plug = skfem_example()
     new = plug.write_msh(6, tmp_path / "new.msh", 2.0)
     old = plug.write_msh(6, tmp_path / "old.msh", 2.0, version="2.2", binary=binary)
     assert (tmp_path / "old.msh").read_bytes().startswith(b"$MeshFormat\n2.2 " + (b"1" if binary else b"0"))
@@ -83,7 +75,7 @@ def test_meshios_msh22_reads_as_its_msh41(tmp_path, binary):
 
 
 def test_the_example_runs(tmp_path, monkeypatch, capsys):
-    plug = example()
+    plug = skfem_example()
     png = tmp_path / "plug.png"
     monkeypatch.setattr(sys, "argv", ["skfem_plug.py", "--n", "6", "--png", str(png)])
     plug.main()
