@@ -86,9 +86,6 @@ const TET_CORNERS: [[f64; 3]; 4] = [
     [0.0, 1.0, 0.0],
     [0.0, 0.0, 1.0],
 ];
-/// The corner pairs of the mid-edge nodes of Tri6 (nodes 3..6) and Tet10 (nodes 4..10).
-const TRI6_EDGES: [[usize; 2]; 3] = [[0, 1], [1, 2], [2, 0]];
-const TET10_EDGES: [[usize; 2]; 6] = [[0, 1], [1, 2], [0, 2], [0, 3], [2, 3], [1, 3]];
 /// Quad8 and Quad9 reference nodes (Gmsh order): corners, mid-edges, centre.
 const QUAD9_NODES: [[f64; 3]; 9] = [
     [-1.0, -1.0, 0.0],
@@ -233,8 +230,7 @@ fn reference_gradients(kind: ElementKind, xi: [f64; 3]) -> [[f64; 3]; MAX_NODES]
             for a in 0..=dim {
                 g[a] = gl[a].map(|d| (4.0 * l[a] - 1.0) * d);
             }
-            let edges: &[[usize; 2]] = if dim == 2 { &TRI6_EDGES } else { &TET10_EDGES };
-            for (ga, &[a, b]) in g[dim + 1..].iter_mut().zip(edges) {
+            for (ga, &[a, b]) in g[dim + 1..].iter_mut().zip(kind.mid_edges()) {
                 for j in 0..3 {
                     ga[j] = 4.0 * (gl[a][j] * l[b] + l[a] * gl[b][j]);
                 }

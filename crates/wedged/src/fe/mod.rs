@@ -82,6 +82,17 @@ impl ElementKind {
         }
     }
 
+    /// The corners each mid-edge node lies between, in node order (a `Quad9`'s centre, its
+    /// last node, is not one): Gmsh's numbering.
+    pub fn mid_edges(self) -> &'static [[usize; 2]] {
+        match self {
+            ElementKind::Tri6 => &[[0, 1], [1, 2], [2, 0]],
+            ElementKind::Quad8 | ElementKind::Quad9 => &[[0, 1], [1, 2], [2, 3], [3, 0]],
+            ElementKind::Tet10 => &[[0, 1], [1, 2], [0, 2], [0, 3], [2, 3], [1, 3]],
+            ElementKind::Tri3 | ElementKind::Quad4 | ElementKind::Tet4 | ElementKind::Hex8 => &[],
+        }
+    }
+
     /// The number of corner nodes (the first ones): the linear element's.
     pub fn corner_count(self) -> usize {
         self.linear().node_count()
