@@ -101,22 +101,31 @@ def displacement(u_local: np.ndarray, recovery: dict) -> np.ndarray:
 def write_msh(n: int, path: Path, mu: float, version: str = "4.1", binary: bool = False) -> Path:
     """The same mesh as Gmsh MSH `version` ("4.1" or the legacy "2.2") with groups `body`,
     `contact`, `top`, and a problem file for the command beside it; returns the problem file."""
-    import meshio
-
     mesh, left, right, top = plug_mesh(n)
     points = np.column_stack([mesh.p.T, np.zeros(mesh.p.shape[1])])
     facets = mesh.facets.T
     on = lambda nodes: np.all(np.isin(facets, nodes), axis=1)  # noqa: E731
-    walls = facets[on(left) | on(right)]
-    tops = facets[on(top)]
-    cells = [("triangle", mesh.t.T), ("line", walls), ("line", tops)]
+    body = ("triangle", mesh.t.T)
+    return write_gmsh(path, points, body, ("line", facets[on(left) | on(right)]), facets[on(top)],
+                      mu, version, binary)
+
+
+def write_gmsh(path: Path, points, body, walls, tops, mu: float, version: str = "4.1",
+               binary: bool = False) -> Path:
+    """A plug mesh as Gmsh MSH `version` with groups `body` (the cells `body`, a meshio
+    `(type, array)`), `contact` (the wall lines `walls`, `(type, array)` too) and `top` (the
+    lines `tops`, of the walls' type), and a problem file for the command beside it; returns
+    the problem file."""
+    import meshio
+
+    cells = [body, walls, (walls[0], tops)]
     tags = [np.full(len(block), tag) for tag, (_, block) in zip((1, 2, 3), cells)]
     # Each node's entity (meshio's MSH 4.1 writer needs them with more than one cell type,
     # and writes an entity, with its physical group, only when some node lies on it): the
     # walls' nodes on curve 2, the top's on curve 3, the rest on surface 1.
     dim_tags = np.tile([2, 1], (len(points), 1))
-    dim_tags[np.concatenate([left, right])] = [1, 2]
-    dim_tags[top] = [1, 3]
+    dim_tags[np.ravel(walls[1])] = [1, 2]
+    dim_tags[np.ravel(tops)] = [1, 3]
     msh = meshio.Mesh(
         points,
         cells,

@@ -13,7 +13,7 @@ import wedged
 from conftest import cli_json, skfem_example
 
 pytest.importorskip("skfem")
-meshio = pytest.importorskip("meshio")
+pytest.importorskip("meshio")
 
 
 def skfem_condensed(plug, n):
@@ -36,7 +36,8 @@ def skfem_condensed(plug, n):
 
 def write_tri6(plug, n, path):
     """The same mesh as 6-node triangles (the middles of the straight edges added), with
-    3-node lines on the walls and the top, as Gmsh MSH 4.1 by meshio; the problem file."""
+    3-node lines on the walls and the top, as Gmsh MSH 4.1 by meshio (the example's writer);
+    the problem file."""
     mesh, left, right, top = plug.plug_mesh(n)
     edges = {tuple(sorted(e)): i for i, e in enumerate(mesh.facets.T)}
     p = mesh.p.shape[1]
@@ -46,28 +47,7 @@ def write_tri6(plug, n, path):
     on = lambda nodes: [e for e in mesh.facets.T if np.all(np.isin(e, nodes))]  # noqa: E731
     walls = np.array([[a, b, mid(a, b)] for a, b in on(left) + on(right)])
     tops = np.array([[a, b, mid(a, b)] for a, b in on(top)])
-    cells = [("triangle6", tri6), ("line3", walls), ("line3", tops)]
-    tags = [np.full(len(block), tag) for tag, (_, block) in zip((1, 2, 3), cells)]
-    # Each node's entity (meshio's MSH 4.1 writer writes a group's entity only when some node
-    # lies on it, as in the example): the walls' on curve 2, the top's on curve 3.
-    dim_tags = np.tile([2, 1], (len(points), 1))
-    dim_tags[walls.ravel()] = [1, 2]
-    dim_tags[tops.ravel()] = [1, 3]
-    msh = meshio.Mesh(
-        points,
-        cells,
-        point_data={"gmsh:dim_tags": dim_tags},
-        cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags},
-        field_data={"body": np.array([1, 2]), "contact": np.array([2, 1]), "top": np.array([3, 1])},
-    )
-    meshio.write(path, msh, file_format="gmsh", binary=False)
-    toml = path.with_suffix(".toml")
-    toml.write_text(
-        f'mu = 2.0\n[mesh]\ngmsh = "{path.name}"\n[material]\nyoung = {plug.YOUNG}\n'
-        f'poisson = {plug.POISSON}\nplane = "strain"\n[[contact]]\ngroup = "contact"\n'
-        '[[clamp]]\ngroup = "top"\n'
-    )
-    return toml
+    return plug.write_gmsh(path, points, ("triangle6", tri6), ("line3", walls), tops, 2.0)
 
 
 @pytest.mark.parametrize("n", [2, 4])
