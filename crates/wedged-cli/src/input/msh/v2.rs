@@ -153,6 +153,27 @@ fn count(r: &mut Reader, section: &str) -> Result<usize, String> {
     Ok(n)
 }
 
+/// A reader at the first entry of the file's first `section` (holding `what`), and the number
+/// of entries its count line announces: an error when there is no such section or it is empty.
+fn open<'a>(
+    bytes: &'a [u8],
+    header: &'a Header,
+    section: &str,
+    what: &str,
+) -> Result<(Reader<'a>, usize), String> {
+    let start = section_starts(bytes, section.as_bytes())
+        .next()
+        .ok_or_else(|| format!("the file has no {section} section"))?;
+    let mut r = Reader::new(bytes, start, header);
+    let n = count(&mut r, section)?;
+    if n == 0 {
+        return Err(format!(
+            "the file has no {what} (its {section} section is empty; was the mesh generated?)"
+        ));
+    }
+    Ok((r, n))
+}
+
 /// The section's end tag, next.
 fn end(r: &mut Reader, section: &str) -> Result<(), String> {
     let tag = format!("$End{}", &section[1..]);
@@ -181,17 +202,7 @@ type Nodes = (Vec<[f64; 3]>, HashMap<i64, usize>);
 /// The `$Nodes` section.
 fn nodes(bytes: &[u8], header: &Header) -> Result<Nodes, String> {
     let section = "$Nodes";
-    let start = section_starts(bytes, section.as_bytes())
-        .next()
-        .ok_or("the file has no $Nodes section")?;
-    let mut r = Reader::new(bytes, start, header);
-    let n = count(&mut r, section)?;
-    if n == 0 {
-        return Err(
-            "the file has no nodes (its $Nodes section is empty; was the mesh generated?)"
-                .to_string(),
-        );
-    }
+    let (mut r, n) = open(bytes, header, section, "nodes")?;
     // A count beyond what the file can hold is caught by the reads; do not reserve for it.
     let room = n.min(bytes.len() / 16);
     let mut coords = Vec::with_capacity(room);
@@ -222,17 +233,7 @@ fn elements(
     index: &HashMap<i64, usize>,
 ) -> Result<Vec<Read>, String> {
     let section = "$Elements";
-    let start = section_starts(bytes, section.as_bytes())
-        .next()
-        .ok_or("the file has no $Elements section")?;
-    let mut r = Reader::new(bytes, start, header);
-    let n = count(&mut r, section)?;
-    if n == 0 {
-        return Err(
-            "the file has no elements (its $Elements section is empty; was the mesh generated?)"
-                .to_string(),
-        );
-    }
+    let (mut r, n) = open(bytes, header, section, "elements")?;
     let mut out = Vec::with_capacity(n.min(bytes.len() / 16));
     // Binary: the current block's type, elements left in it, and number of tags.
     let mut block = (0, 0usize, 0usize);
