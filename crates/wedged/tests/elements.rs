@@ -765,26 +765,8 @@ fn constant_strain_energy_is_area_times_density() {
                     .abs()
                     / 2.0
             };
-            let b = &field.b;
-            let (eps, d) = if kind.dim() == 2 {
-                (
-                    DVector::from_vec(vec![b[0][0], b[1][1], b[0][1] + b[1][0]]),
-                    m.d_matrix(2),
-                )
-            } else {
-                (
-                    DVector::from_vec(vec![
-                        b[0][0],
-                        b[1][1],
-                        b[2][2],
-                        b[1][2] + b[2][1],
-                        b[0][2] + b[2][0],
-                        b[0][1] + b[1][0],
-                    ]),
-                    m.d_matrix(3),
-                )
-            };
-            let want = size * eps.dot(&(d * &eps));
+            let dim = kind.dim();
+            let want = size * energy_density(&field.b, dim, &m.d_matrix(dim));
             let got = u.dot(&(&k * &u));
             assert!(
                 (got - want).abs() <= 1e-11 * want,
