@@ -183,20 +183,26 @@ fn plug2d_quad_nodes_follow_the_bilinear_map() {
     }
 }
 
+/// `a` and `b` (the mesh of file `what`) are the same mesh: dimension, nodes in order (to
+/// 1e-15: an ASCII file has 16 significant digits, so the last bit may differ from a binary
+/// file's), elements and groups.
+pub(super) fn assert_same_mesh(a: &Mesh, b: &Mesh, what: &str) {
+    assert_eq!(a.dim(), b.dim(), "{what}");
+    assert_eq!(a.node_count(), b.node_count(), "{what}");
+    for (x, y) in a.coords().iter().zip(b.coords()) {
+        for k in 0..3 {
+            assert!((x[k] - y[k]).abs() <= 1e-15, "{what}: {x:?} vs {y:?}");
+        }
+    }
+    assert_eq!(a.elements(), b.elements(), "{what}");
+    assert_eq!(a.groups(), b.groups(), "{what}");
+}
+
 #[test]
 fn binary_and_ascii_give_the_same_mesh() {
     let ascii = load("plug2d_quad.msh");
     let binary = load("plug2d_quad_bin.msh");
-    assert_eq!(ascii.dim(), binary.dim());
-    // The ASCII file has 16 significant digits: the last bit may differ.
-    assert_eq!(ascii.node_count(), binary.node_count());
-    for (a, b) in ascii.coords().iter().zip(binary.coords()) {
-        for k in 0..3 {
-            assert!((a[k] - b[k]).abs() <= 1e-15, "{a:?} vs {b:?}");
-        }
-    }
-    assert_eq!(ascii.elements(), binary.elements());
-    assert_eq!(ascii.groups(), binary.groups());
+    assert_same_mesh(&ascii, &binary, "plug2d_quad_bin.msh");
 }
 
 #[test]

@@ -1,6 +1,6 @@
 //! Tests of `msh/v2.rs`: the legacy MSH 2.2 format.
 
-use super::tests::{body_as_group, counts, error, fixture, group, load, owned};
+use super::tests::{assert_same_mesh, body_as_group, counts, error, fixture, group, load, owned};
 use super::*;
 use wedged::fe::ElementKind;
 
@@ -16,16 +16,7 @@ fn msh22_reads_as_its_msh41_twin() {
         ("plug2d_quad.msh", "plug2d_quad_22_bin.msh"),
         ("box3d_tet.msh", "box3d_tet_22.msh"),
     ] {
-        let (a, b) = (load(v41), load(v22));
-        assert_eq!(a.dim(), b.dim(), "{v22}");
-        assert_eq!(a.node_count(), b.node_count(), "{v22}");
-        for (x, y) in a.coords().iter().zip(b.coords()) {
-            for k in 0..3 {
-                assert!((x[k] - y[k]).abs() <= 1e-15, "{v22}: {x:?} vs {y:?}");
-            }
-        }
-        assert_eq!(a.elements(), b.elements(), "{v22}");
-        assert_eq!(a.groups(), b.groups(), "{v22}");
+        assert_same_mesh(&load(v41), &load(v22), v22);
     }
     // The unit square of the fixtures: 3-node triangles, a bottom line and the body.
     let mesh = load("msh22.msh");
