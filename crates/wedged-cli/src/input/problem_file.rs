@@ -418,14 +418,15 @@ fn load_model_from(path: &Path, raw: RawProblem) -> Result<Model, LoadError> {
                 "[mesh] needs `gmsh = \"body.msh\"` or a [mesh.generate] table".into(),
             ))
         }
-        (Some(relative), None) if script => {
-            let base = path.parent().unwrap_or(Path::new(""));
-            let parameters = raw_mesh.parameters.unwrap_or_default();
-            geo::mesh(&base.join(relative), &parameters).map_err(|m| err(one_line(&m)))?
-        }
         (Some(relative), None) => {
-            let base = path.parent().unwrap_or(Path::new(""));
-            msh::read(&base.join(relative)).map_err(|e| LoadError(one_line(&e.to_string())))?
+            // Relative to the problem file's directory.
+            let file = path.parent().unwrap_or(Path::new("")).join(relative);
+            if script {
+                let parameters = raw_mesh.parameters.unwrap_or_default();
+                geo::mesh(&file, &parameters).map_err(|m| err(one_line(&m)))?
+            } else {
+                msh::read(&file).map_err(|e| LoadError(one_line(&e.to_string())))?
+            }
         }
         (None, Some(generate)) => {
             generate_mesh(generate).map_err(|m| err(format!("[mesh.generate]: {m}")))?
