@@ -31,6 +31,7 @@ or a meshed body, condensed onto its contact nodes:
   [mesh]
   gmsh = \"plug.msh\"            # Gmsh MSH 4.1 or 2.2 (ASCII or binary), groups by name, or
                                #   a Gmsh script (.geo, meshed by Gmsh at each run), with:
+  # size_factor = 2            #   every mesh size of the script times this (-clscale)
   # [mesh.parameters]          #   its DefineConstant numbers (half_angle = 20, ...); or
   # [mesh.generate]            # a built-in body:
   # kind = \"plug2d\"            #   bottom_width, top_width, height, nx, ny, element = quad|tri
@@ -138,9 +139,9 @@ pub(crate) struct CriticalArgs {
     #[arg(long, value_name = "PREVIOUS.json")]
     pub(crate) start: Option<PathBuf>,
     /// Compute from scratch. By default a generated body ([mesh.generate]) with 80 contact
-    /// nodes or more in 2D, 40 in 3D, is first solved with half the divisions (itself so, while
-    /// large enough), and the search starts from that wedge as --start would; the bracket does
-    /// not depend on it
+    /// nodes or more in 2D, 40 in 3D, is first solved with half the divisions (a Gmsh script's
+    /// mesh, with every mesh size doubled; itself so, while large enough), and the search starts
+    /// from that wedge as --start would; the bracket does not depend on it
     #[arg(long)]
     pub(crate) no_chain: bool,
 }

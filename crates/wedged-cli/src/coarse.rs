@@ -1,7 +1,11 @@
-//! `critical`'s start on a fine generated mesh: the same body with half the divisions, solved
-//! first, its wedge mapped onto the fine mesh as the search's first leaf, as `critical --start`
-//! maps an earlier result ([`Earlier::onto`]). The coarse body is itself started from a coarser
-//! one while it has [`COARSE_FROM`] contact nodes or more.
+//! `critical`'s start on a fine mesh: the same body with half the divisions (a generated body)
+//! or with every mesh size doubled (a Gmsh script, its `size_factor`), solved first, its wedge
+//! mapped onto the fine mesh as the search's first leaf, as `critical --start` maps an earlier
+//! result ([`Earlier::onto`]). The coarse body is itself started from a coarser one while it
+//! has [`COARSE_FROM`] contact nodes or more. A mesh file has no coarser mesh.
+//!
+//! On a Gmsh script's unstructured mesh the start matters more than on the generated plug,
+//! whose settled root refutes the whole tree at `mu*` (`BENCHMARKS.md`).
 //!
 //! The search's own first leaf comes from its rounded root and a local search over contact
 //! sets, which on a fine mesh can stop far above `mu*` (the 2D plug at m = 400: at 2.28, where
@@ -38,6 +42,16 @@ pub const COARSE_FROM: usize = 80;
 /// `mu = 2`, 2026-11-29: m = 40 (`ny = nz = 4`) 2.37 s against 0.035 + 1.96 s (paired 0.82 for
 /// the second, `-n 3`); m = 80 (`ny = 9, nz = 4`) 224.7 s against 0.52 + 161.4 s, one run each.)
 pub const COARSE_FROM_3D: usize = 40;
+
+/// How the problem file (text `text`) is made coarser ([`start`]), for the summary's line.
+pub fn how(text: &str) -> &'static str {
+    let table = text.parse::<toml::Table>().unwrap_or_default();
+    if study::is_script(&table) {
+        "every mesh size of its Gmsh script doubled"
+    } else {
+        "half the divisions"
+    }
+}
 
 /// The answers of the coarser meshes, coarsest first, and the start they give.
 #[derive(Debug, Clone)]

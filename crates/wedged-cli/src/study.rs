@@ -10,7 +10,9 @@
 //! - `half_angle`: the notch half-angle in degrees, from the vertical; it sets `top_width =
 //!   bottom_width + 2 height tan(half_angle)` (`plug2d`, `vgroove3d`, `frustum3d`);
 //! - `refine`: a whole factor multiplying every division count of `[mesh.generate]` (`nx`,
-//!   `ny`, `nz`, `n`), for mesh-convergence studies.
+//!   `ny`, `nz`, `n`), for mesh-convergence studies; for a Gmsh script (`gmsh = "body.geo"`),
+//!   any factor from 1 up dividing its `size_factor` (every mesh size of the script, Gmsh's
+//!   `Mesh.MeshSizeFactor`; 1 where the file gives none).
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -33,10 +35,14 @@ pub const HALF_ANGLE: &str = "half_angle";
 pub const REFINE: &str = "refine";
 /// The division counts `refine` multiplies.
 const DIVISIONS: [&str; 4] = ["nx", "ny", "nz", "n"];
-/// Whether varying `key` changes the mesh size: `refine` or a division count of
-/// `[mesh.generate]`.
+/// A Gmsh script's factor of every mesh size (`[mesh] size_factor`).
+const SIZE_FACTOR: &str = "size_factor";
+
+/// Whether varying `key` changes the mesh size: `refine`, a division count of
+/// `[mesh.generate]` or a Gmsh script's `mesh.size_factor`.
 pub fn refines(key: &str) -> bool {
     key == REFINE
+        || key == "mesh.size_factor"
         || key
             .strip_prefix("mesh.generate.")
             .is_some_and(|d| DIVISIONS.contains(&d))
@@ -213,7 +219,46 @@ fn set_half_angle(table: &mut Table, degrees: f64) -> Result<(), String> {
     Ok(())
 }
 
+/// Whether a problem file's mesh is a Gmsh script (`gmsh = "body.geo"`).
+pub fn is_script(table: &Table) -> bool {
+    table
+        .get("mesh")
+        .and_then(|m| m.get("gmsh"))
+        .and_then(Value::as_str)
+        .and_then(|p| p.rsplit_once('.'))
+        .is_some_and(|(_, e)| e.eq_ignore_ascii_case("geo"))
+}
+
+/// The `[mesh]` table of a problem file whose mesh is a Gmsh script.
+fn script_table(table: &mut Table) -> Option<&mut Table> {
+    if !is_script(table) {
+        return None;
+    }
+    table.get_mut("mesh")?.as_table_mut()
+}
+
+/// A Gmsh script's mesh sizes times `factor` (its `size_factor`, 1 where it has none); `None`
+/// where the file's mesh is not a script or its `size_factor` is not a number.
+fn scale_script(table: &mut Table, factor: f64) -> Option<()> {
+    let mesh = script_table(table)?;
+    let now = match mesh.get(SIZE_FACTOR) {
+        None => 1.0,
+        Some(v) => v.as_float().or_else(|| v.as_integer().map(|i| i as f64))?,
+    };
+    mesh.insert(SIZE_FACTOR.to_string(), Value::Float(now * factor));
+    Some(())
+}
+
 fn refine(table: &mut Table, factor: f64) -> Result<(), String> {
+    if script_table(table).is_some() {
+        if !(1.0..=1e6).contains(&factor) {
+            return Err(format!(
+                "--vary {REFINE} = {factor}: the refinement factor is a number >= 1"
+            ));
+        }
+        return scale_script(table, 1.0 / factor)
+            .ok_or_else(|| format!("--vary {REFINE}: [mesh] {SIZE_FACTOR} is not a number"));
+    }
     if factor < 1.0 || factor.fract() != 0.0 || factor > 1e6 {
         return Err(format!(
             "--vary {REFINE} = {factor}: the refinement factor is a whole number >= 1"
@@ -237,10 +282,14 @@ fn refine(table: &mut Table, factor: f64) -> Result<(), String> {
     }
 }
 
-/// The problem file's table with every division count of `[mesh.generate]` halved, rounded up
-/// (`critical`'s coarser start, [`crate::coarse`]); `None` where it has none above 1.
+/// The problem file's table with every division count of `[mesh.generate]` halved, rounded up,
+/// or a Gmsh script's mesh sizes doubled (`critical`'s coarser start, [`crate::coarse`]); `None`
+/// where it has neither (no division count above 1).
 pub fn coarsened(base: &Table) -> Option<Table> {
     let mut table = base.clone();
+    if script_table(&mut table).is_some() {
+        return scale_script(&mut table, 2.0).map(|()| table);
+    }
     let generate = generate_table(&mut table, REFINE).ok()?;
     let mut any = false;
     for key in DIVISIONS {
@@ -591,6 +640,37 @@ mod tests {
         assert!(coarsened(&table("[mesh.generate]\nnx = 1\nny = 1\n")).is_none());
         assert!(coarsened(&table("[mesh]\nfile = \"a.msh\"\n")).is_none());
         assert!(coarsened(&table("mu = 1.0\n")).is_none());
+    }
+
+    /// A Gmsh script's coarser mesh doubles its `size_factor`, and `refine` divides it; a mesh
+    /// file has neither.
+    #[test]
+    fn a_scripts_mesh_sizes_scale() {
+        let script = table("mu = 2.0\n[mesh]\ngmsh = \"body.GEO\"\n[mesh.parameters]\nlc = 0.1\n");
+        let factor = |t: &Table| t["mesh"]["size_factor"].as_float();
+        let coarse = coarsened(&script).unwrap();
+        assert_eq!(factor(&coarse), Some(2.0));
+        assert_eq!(factor(&coarsened(&coarse).unwrap()), Some(4.0));
+        assert_eq!(coarse["mesh"]["parameters"]["lc"].as_float(), Some(0.1));
+        let refine = Parameter {
+            key: REFINE.into(),
+            values: vec![1.5],
+        };
+        let finer = apply(&coarse, std::slice::from_ref(&refine), &[4.0]).unwrap();
+        assert_eq!(factor(&finer), Some(0.5));
+        assert_eq!(
+            factor(&apply(&script, std::slice::from_ref(&refine), &[1.5]).unwrap()),
+            Some(1.0 / 1.5)
+        );
+        let e = apply(&script, std::slice::from_ref(&refine), &[0.5]).unwrap_err();
+        assert!(e.contains("refinement factor is a number >= 1"), "{e}");
+        let words = table("[mesh]\ngmsh = \"body.geo\"\nsize_factor = \"two\"\n");
+        assert!(coarsened(&words).is_none());
+        let e = apply(&words, &[refine], &[2.0]).unwrap_err();
+        assert!(e.contains("size_factor is not a number"), "{e}");
+        assert!(coarsened(&table("[mesh]\ngmsh = \"body.msh\"\n")).is_none());
+        assert!(refines("mesh.size_factor") && refines(REFINE));
+        assert!(!refines("mesh.parameters.lc"));
     }
 
     #[test]

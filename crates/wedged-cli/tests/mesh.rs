@@ -707,3 +707,62 @@ fn a_gmsh_script_is_meshed_by_gmsh_with_its_parameters() {
         &["[mesh.parameters] are for a Gmsh script"],
     );
 }
+
+/// `size_factor` reaches Gmsh as `-clscale` and is read back after the script ran; it is
+/// refused for a mesh file, and where it is not positive or the script sets it itself.
+#[cfg(unix)]
+#[test]
+fn a_scripts_size_factor_goes_to_gmsh() {
+    let dir = tempfile::tempdir().unwrap();
+    write(&dir, "plug.geo", "// meshed by the stand-in\n");
+    let mesh = "[mesh]\ngmsh = \"plug.geo\"\nsize_factor = 2.5\n";
+    let toml = PLUG.replace(
+        "[mesh.generate]\nkind = \"plug2d\"\nbottom_width = 1.0\ntop_width = 2.0\nheight = 1.0\nnx = 6\nny = 4\n",
+        mesh,
+    );
+    assert!(toml.contains(mesh));
+    let problem = write(&dir, "plug.toml", &toml);
+    let gmsh = fake_gmsh(&dir, "", "wedged-parameter Mesh.MeshSizeFactor 2.5\\n");
+    assert_success(&wedged_with_gmsh(&gmsh, &["critical", &problem]));
+    let log = fs::read_to_string(dir.path().join("args.log")).unwrap();
+    // No parameters: no parse-only run; the factor after the output file.
+    assert_eq!(log.lines().count(), 1, "{log}");
+    assert!(log.contains("-clscale 2.5e0"), "{log}");
+
+    let cases: [(&str, &[&str]); 2] = [
+        (
+            "wedged-parameter Mesh.MeshSizeFactor 1\\n",
+            &[
+                "plug.toml: [mesh]: size_factor = 2.5, but ",
+                "sets Mesh.MeshSizeFactor = 1 itself",
+            ],
+        ),
+        ("Info : meshed\\n", &["printed no Mesh.MeshSizeFactor"]),
+    ];
+    for (reply, needles) in cases {
+        let gmsh = fake_gmsh(&dir, "", reply);
+        assert_bad_input(&wedged_with_gmsh(&gmsh, &["critical", &problem]), needles);
+    }
+    for (bad, shown) in [("0", "0"), ("-1.0", "-1"), ("nan", "NaN")] {
+        let path = write(
+            &dir,
+            "bad.toml",
+            &toml.replace("size_factor = 2.5", &format!("size_factor = {bad}")),
+        );
+        assert_bad_input(
+            &wedged_with_gmsh(&gmsh, &["critical", &path]),
+            &[&format!(
+                "[mesh]: size_factor = {shown} is not a positive number"
+            )],
+        );
+    }
+    let with_msh = write(
+        &dir,
+        "factor.toml",
+        &toml.replace("plug.geo", &fixture("msh/plug2d_quad.msh")),
+    );
+    assert_bad_input(
+        &wedged(&["critical", &with_msh]),
+        &["[mesh]: size_factor is for a Gmsh script"],
+    );
+}

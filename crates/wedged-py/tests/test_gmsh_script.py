@@ -126,3 +126,53 @@ def test_a_mesh_size_study_of_a_script_extrapolates(tmp_path):
     hs = [float(r["h"]) for r in rows]
     assert hs == sorted(hs, reverse=True) and len(set(hs)) == 4
     assert "extrapolated to h = 0: mu* = " in done.stdout, done.stdout
+
+
+def test_size_factor_scales_every_mesh_size(tmp_path):
+    """`size_factor = 2` with `lc = 0.1` is the mesh of `lc = 0.2`: the same K."""
+    def load(lc: float, factor: str) -> wedged.Problem:
+        return wedged.load(problem(
+            tmp_path,
+            f'[mesh]\ngmsh = "{SCRIPT}"\n{factor}[mesh.parameters]\nlc = {lc}\n',
+            f"plug_{lc}_{len(factor)}.toml",
+        ))
+    scaled, plain, fine = load(0.1, "size_factor = 2.0\n"), load(0.2, ""), load(0.1, "")
+    assert scaled.K.shape == plain.K.shape
+    assert scaled.K.shape[0] < fine.K.shape[0]
+    assert abs(scaled.K - plain.K).max() <= 1e-12 * abs(plain.K).max()
+
+
+def test_refine_studies_any_script(tmp_path):
+    """`--vary refine=...` on a script divides its size factor: h falls with the factor, and
+    each finer point starts from the coarser answer."""
+    out = tmp_path / "refine"
+    done = subprocess.run(
+        [str(wedged_bin()), "study", str(EXAMPLES / "plug2d_geo.toml"),
+         "--vary", "refine=1,1.5,2", "--out", str(out)],
+        capture_output=True, text=True,
+    )
+    assert done.returncode == 0, done.stderr
+    rows = list(csv.DictReader((out / "study.csv").open()))
+    hs = [float(r["h"]) for r in rows]
+    ms = [int(r["m"]) for r in rows]
+    assert hs == sorted(hs, reverse=True) and ms == sorted(ms) and len(set(ms)) == 3
+    assert hs[0] / hs[2] == pytest.approx(2.0, rel=0.2)
+    assert done.stdout.count("started from the coarser answer") == 2, done.stdout
+
+
+def test_a_fine_script_starts_from_its_coarser_mesh(tmp_path):
+    """From 80 contact nodes on, `critical` first solves the script with every mesh size
+    doubled and starts from that wedge; the bracket is that of `--no-chain`, and Python's."""
+    toml = problem(tmp_path, f'[mesh]\ngmsh = "{SCRIPT}"\n[mesh.parameters]\nlc = 0.0267\n', "fine.toml")
+    done = subprocess.run([str(wedged_bin()), "critical", str(toml)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    said = "the same body with every mesh size of its Gmsh script doubled first"
+    assert said in done.stdout, done.stdout
+    coarse = done.stdout.split(said)[1].splitlines()[1]
+    assert coarse.startswith("  m = 42: mu* = "), coarse
+    chained = cli_json("critical", str(toml))
+    scratch = cli_json("critical", str(toml), "--no-chain")
+    assert chained["nodes"] == scratch["nodes"] == 84
+    width = 2 * scratch["tol"] * scratch["upper"]
+    assert abs(chained["mu_critical"] - scratch["mu_critical"]) <= width
+    assert abs(wedged.load(toml).critical().mu - scratch["mu_critical"]) <= width

@@ -221,7 +221,7 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
         svg,
         vtk,
         coarse,
-        text: _,
+        text,
         time_limit,
     } = job;
     let json = json
@@ -282,10 +282,11 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
                 stdout_text.push_str(&summary::model(&source, model));
             }
             if !coarse.is_empty() {
-                stdout_text.push_str(
-                    "the same body with half the divisions first, its wedge this search's start \
-                     (--no-chain: from scratch):\n",
-                );
+                stdout_text.push_str(&format!(
+                    "the same body with {} first, its wedge this search's start (--no-chain: \
+                     from scratch):\n",
+                    coarse::how(&text)
+                ));
                 for line in &coarse {
                     stdout_text.push_str(&format!("  {line}\n"));
                 }

@@ -129,8 +129,8 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
             });
         }
         let chained_from = settings.start.is_some();
-        // A point with no coarser point before it: its body with half the divisions, as
-        // `critical` does on a fine generated mesh.
+        // A point with no coarser point before it: its body with half the divisions (a
+        // script's mesh sizes doubled), as `critical` does on a fine mesh.
         let halved = !args.no_chain
             && !chained_from
             && !coarse::chain(
@@ -187,11 +187,11 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
             k + 1,
             row_text(&row),
             if chained_from {
-                ", started from the coarser answer"
+                ", started from the coarser answer".to_string()
             } else if halved {
-                ", started from the same body with half the divisions"
+                format!(", started from the same body with {}", coarse::how(&edited))
             } else {
-                ""
+                String::new()
             },
             w = total.to_string().len()
         ))?;

@@ -6,7 +6,7 @@
 //! `pip install gmsh` installs one). The command is
 //!
 //! ```text
-//! gmsh body.geo CHECK.geo -3 -format msh41 -o MESH.msh -setnumber NAME VALUE ... -v 3
+//! gmsh body.geo CHECK.geo -3 -format msh41 -o MESH.msh -setnumber NAME VALUE ... [-clscale F] -v 3
 //! ```
 //!
 //! in a temporary directory: `-3` meshes every dimension up to the script's highest (a 2D
@@ -18,6 +18,11 @@
 //! never defines, found by a first run that only parses (`-parse_and_exit`, without the
 //! parameters, each one's `Exists` printed). Gmsh exits with status 0 after errors in a
 //! script; its output is read for them (`Error :` lines), and the first is the message.
+//!
+//! `size_factor = F` in `[mesh]` multiplies every mesh size of the script by `F` (`-clscale`,
+//! Gmsh's `Mesh.MeshSizeFactor`, read back like a parameter): any script's mesh made coarser or
+//! finer without a parameter of its own for it. `critical`'s coarser start doubles it
+//! ([`crate::coarse`]), and `study --vary refine=1,2,4` divides it.
 //!
 //! The mesh is then read as any MSH file ([`super::msh`]).
 
@@ -37,10 +42,22 @@ pub const GMSH_VARIABLE: &str = "WEDGED_GMSH";
 /// The prefix of the lines of the check script.
 const MARK: &str = "wedged-parameter";
 
-/// Meshes the script at `path` with `parameters`, by Gmsh. `Err` is one line without the
-/// problem file's name.
-pub fn mesh(path: &Path, parameters: &BTreeMap<String, f64>) -> Result<Mesh, String> {
+/// The name under which the check script prints Gmsh's `Mesh.MeshSizeFactor`.
+const FACTOR: &str = "Mesh.MeshSizeFactor";
+
+/// Meshes the script at `path` with `parameters` and every mesh size times `size_factor`, by
+/// Gmsh. `Err` is one line without the problem file's name.
+pub fn mesh(
+    path: &Path,
+    parameters: &BTreeMap<String, f64>,
+    size_factor: Option<f64>,
+) -> Result<Mesh, String> {
     let shown = path.display();
+    if let Some(f) = size_factor.filter(|f| !(f.is_finite() && *f > 0.0)) {
+        return Err(format!(
+            "[mesh]: size_factor = {f} is not a positive number"
+        ));
+    }
     if !path.is_file() {
         return Err(format!("cannot read the Gmsh script {shown}: no such file"));
     }
@@ -88,10 +105,13 @@ pub fn mesh(path: &Path, parameters: &BTreeMap<String, f64>) -> Result<Mesh, Str
 
     let check = dir.path().join("check.geo");
     let out = dir.path().join("mesh.msh");
-    let lines: String = parameters
+    let mut lines: String = parameters
         .keys()
         .map(|name| format!("Printf(\"{MARK} {name} %.17g\", {name});\n"))
         .collect();
+    if size_factor.is_some() {
+        lines += &format!("Printf(\"{MARK} {FACTOR} %.17g\", {FACTOR});\n");
+    }
     std::fs::write(&check, lines).map_err(|e| format!("cannot write Gmsh's check script: {e}"))?;
     let mut args: Vec<OsString> = ["-3", "-format", "msh41", "-o"].map(OsString::from).into();
     args.push(out.clone().into_os_string());
@@ -102,8 +122,14 @@ pub fn mesh(path: &Path, parameters: &BTreeMap<String, f64>) -> Result<Mesh, Str
             format!("{value:e}").into(),
         ]);
     }
+    if let Some(f) = size_factor {
+        args.extend(["-clscale".into(), format!("{f:e}").into()]);
+    }
     let text = gmsh(&[path, &check], &args)?;
     check_parameters(&text, parameters, &shown.to_string())?;
+    if let Some(f) = size_factor {
+        check_factor(&text, f, &shown.to_string())?;
+    }
     let bytes = std::fs::read(&out)
         .map_err(|_| format!("Gmsh wrote no mesh for {shown} (does the script define a body?)"))?;
     msh::parse(&bytes, &format!("the mesh of {shown}")).map_err(|e| e.to_string())
@@ -187,6 +213,26 @@ fn check_parameters(
     Ok(())
 }
 
+/// The mesh size factor as the check script printed it: as given, or an error (a script that
+/// sets `Mesh.MeshSizeFactor` itself ignores `size_factor`).
+fn check_factor(text: &str, factor: f64, script: &str) -> Result<(), String> {
+    let seen = text.lines().find_map(|l| {
+        let mut fields = l.strip_prefix(MARK)?.split_whitespace();
+        (fields.next()? == FACTOR).then_some(())?;
+        fields.next()?.parse::<f64>().ok()
+    });
+    match seen {
+        None => Err(format!(
+            "[mesh]: Gmsh printed no {FACTOR} after {script} ran (is the Gmsh program Gmsh 4?)"
+        )),
+        Some(seen) if (seen - factor).abs() > 1e-14 * factor => Err(format!(
+            "[mesh]: size_factor = {factor}, but {script} sets {FACTOR} = {seen} itself: \
+             remove that line so that size_factor applies"
+        )),
+        Some(_) => Ok(()),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -208,5 +254,19 @@ mod tests {
         );
         let e = check_parameters("wedged-parameter lc 0.2\n", &given, "p.geo").unwrap_err();
         assert!(e.contains("printed no value of angle"), "{e}");
+    }
+
+    #[test]
+    fn the_printed_size_factor_is_checked() {
+        let printed = |f: &str| format!("Info : x\nwedged-parameter Mesh.MeshSizeFactor {f}\n");
+        assert!(check_factor(&printed("2"), 2.0, "p.geo").is_ok());
+        assert!(check_factor(&printed("0.5"), 0.5, "p.geo").is_ok());
+        let e = check_factor(&printed("1"), 2.0, "p.geo").unwrap_err();
+        assert!(
+            e.contains("size_factor = 2, but p.geo sets Mesh.MeshSizeFactor = 1 itself"),
+            "{e}"
+        );
+        let e = check_factor("wedged-parameter lc 2\n", 2.0, "p.geo").unwrap_err();
+        assert!(e.contains("printed no Mesh.MeshSizeFactor"), "{e}");
     }
 }

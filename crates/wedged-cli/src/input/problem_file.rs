@@ -15,7 +15,8 @@
 //! [mesh]
 //! gmsh = "plug.msh"              # MSH 4.1 or 2.2, ASCII or binary; or a Gmsh script,
 //! # gmsh = "plug.geo"            # meshed by Gmsh with the numbers of [mesh.parameters]
-//! # [mesh.parameters]            # (its DefineConstant values; see `geo`); or a built-in body:
+//! # [mesh.parameters]            # (its DefineConstant values; see `geo`; `size_factor = 2`
+//! #                              # in [mesh] doubles every mesh size); or a built-in body:
 //! # half_angle = 10.0
 //! # [mesh.generate]
 //! # kind = "plug2d"              # plug2d | vgroove3d | frustum3d
@@ -87,6 +88,8 @@ struct RawMesh {
     generate: Option<Generate>,
     /// A Gmsh script's parameters (`gmsh = "body.geo"`).
     parameters: Option<std::collections::BTreeMap<String, f64>>,
+    /// A Gmsh script's mesh sizes times this (`-clscale`).
+    size_factor: Option<f64>,
 }
 
 /// A built-in body. Widths, heights and lengths are in the units of the material's modulus.
@@ -400,6 +403,13 @@ fn load_model_from(path: &Path, raw: RawProblem) -> Result<Model, LoadError> {
         .gmsh
         .as_ref()
         .is_some_and(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("geo")));
+    if raw_mesh.size_factor.is_some() && !script {
+        return Err(err(
+            "[mesh]: size_factor is for a Gmsh script (`gmsh = \"body.geo\"`); a built-in \
+             body's mesh is set by its division counts"
+                .into(),
+        ));
+    }
     if raw_mesh.parameters.is_some() && !script {
         return Err(err(
             "[mesh.parameters] are for a Gmsh script (`gmsh = \"body.geo\"`), which Gmsh \
@@ -423,7 +433,8 @@ fn load_model_from(path: &Path, raw: RawProblem) -> Result<Model, LoadError> {
             let file = path.parent().unwrap_or(Path::new("")).join(relative);
             if script {
                 let parameters = raw_mesh.parameters.unwrap_or_default();
-                geo::mesh(&file, &parameters).map_err(|m| err(one_line(&m)))?
+                geo::mesh(&file, &parameters, raw_mesh.size_factor)
+                    .map_err(|m| err(one_line(&m)))?
             } else {
                 msh::read(&file).map_err(|e| LoadError(one_line(&e.to_string())))?
             }

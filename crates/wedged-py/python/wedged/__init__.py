@@ -553,8 +553,8 @@ class Problem:
         the same body, on this mesh or another (mapped by the contact nodes' positions, as
         ``--start``): a mesh-convergence study in a loop starts each mesh from the last.
         Without a start, a generated body of 80 contact nodes or more (40 in 3D) is first solved with
-        half the divisions and started from that answer, as the command does; ``chain=False``
-        computes from scratch (``--no-chain``)."""
+        half the divisions (a Gmsh script's mesh with every mesh size doubled) and started from
+        that answer, as the command does; ``chain=False`` computes from scratch (``--no-chain``)."""
         if "shard" in kw:
             kw["shard"] = _shard(kw["shard"])
         kw.update(_start(kw.pop("start", None)))
