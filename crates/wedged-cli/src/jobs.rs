@@ -586,6 +586,8 @@ pub fn plan_critical(options: &CriticalOptions) -> Result<CriticalSettings, Fail
         fault: injected_fault()?,
         shard: options.shard,
         start: None,
+        // The callers' `--no-chain` turns it off.
+        condense: true,
     })
 }
 

@@ -1111,11 +1111,14 @@ fn check_critical_keys(report: &Value) {
         "uncertain",
         "groups",
         "seconds",
+        "condensed_nodes",
+        "condensed_mu",
+        "condensed_seconds",
         "peak_rss_bytes",
     ] {
         assert!(info.contains_key(key), "missing info.{key}: {info:?}");
     }
-    assert_eq!(info.len(), 24, "{info:?}");
+    assert_eq!(info.len(), 27, "{info:?}");
 }
 
 /// One node with `K_nn = 2, K_nt = 1, K_tt = 1`: `mu* = K_tt / |K_nt| = 1`.
@@ -1771,6 +1774,57 @@ fn critical_starts_from_a_coarser_meshs_answer() {
             "this problem's is 3D",
         ],
     );
+}
+
+/// `critical` on a condensed stiffness of 80 nodes (no mesh to coarsen: the plug's `K` written
+/// by `condense`) starts from the problem condensed onto about half its nodes and says so; the
+/// bracket is that of `--no-chain`, which does not.
+#[test]
+fn critical_starts_a_large_stiffness_from_its_condensed_problem() {
+    let plug = example_with("plug2d.toml", &[("nx", "3".into()), ("ny", "40".into())]);
+    let dir = dir_with(&[("plug.toml", &plug)]);
+    let mtx = path_in(&dir, "K.mtx");
+    let out = wedged(&["condense", &path_in(&dir, "plug.toml"), "--mtx", &mtx]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let toml = "dim = 2\nmu = 2.0\n[stiffness]\nmatrix_market = \"K.mtx\"\n";
+    fs::write(dir.path().join("k.toml"), toml).unwrap();
+    let problem = path_in(&dir, "k.toml");
+    let json = |extra: &[&str]| -> Value {
+        let mut args = vec!["critical", problem.as_str(), "--json", "-"];
+        args.extend_from_slice(extra);
+        let out = wedged(&args);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        json_stdout(&out)
+    };
+    let (started, scratch) = (json(&[]), json(&["--no-chain"]));
+    assert_eq!(started["nodes"], 80);
+    let nodes = started["info"]["condensed_nodes"].as_u64().unwrap();
+    assert!((27..=42).contains(&nodes), "{}", started["info"]);
+    assert!(started["info"]["condensed_mu"].as_f64().unwrap() > 0.0);
+    assert_eq!(started["info"]["dive_nodes"], 0);
+    assert_eq!(scratch["info"]["condensed_nodes"], 0);
+    assert_eq!(scratch["info"]["condensed_mu"], Value::Null);
+    for end in ["lower", "upper"] {
+        let (a, b) = (
+            started[end].as_f64().unwrap(),
+            scratch[end].as_f64().unwrap(),
+        );
+        assert!((a - b).abs() <= 2e-9 * a, "{end} {a} against {b}");
+    }
+    let out = wedged(&["critical", &problem]);
+    // The summary's lines are wrapped: compare its words.
+    let text = stdout(&out)
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    assert!(
+        text.contains(&format!(
+            "the problem condensed onto {nodes} of its 80 nodes"
+        )),
+        "{text}"
+    );
+    let out = wedged(&["critical", &problem, "--no-chain"]);
+    assert!(!stdout(&out).contains("condensed onto"));
 }
 
 /// `critical` on a generated 2D body of 80 contact nodes or more first solves the body with

@@ -57,6 +57,9 @@ create_exception!(
 /// How often a run polls Python's signals (Ctrl-C).
 const POLL: Duration = Duration::from_millis(50);
 
+mod critical_run;
+use critical_run::critical_json;
+
 fn to_py(failure: Failure) -> PyErr {
     match failure {
         Failure::Input(m) => InputError::new_err(one_line(&m)),
@@ -372,72 +375,6 @@ impl EnumerationRun {
     }
 }
 
-/// Where a Python `critical` starts ([`wedged::CriticalSettings::start`]): a contact set, the
-/// path of an earlier result, or an earlier result's JSON text (a `Critical` in memory).
-type Start = (Option<Vec<bool>>, Option<PathBuf>, Option<String>);
-
-/// Computes `mu*` as `wedged critical` does and returns its JSON document.
-#[allow(clippy::too_many_arguments)]
-fn critical_json(
-    py: Python<'_>,
-    problem: &Problem,
-    model: Option<&Model>,
-    source: &str,
-    method: Option<&str>,
-    time_limit: Option<f64>,
-    certify: bool,
-    tol: Option<f64>,
-    progress: bool,
-    shard: Option<&str>,
-    start: Start,
-    file: Option<&(PathBuf, String)>,
-) -> PyResult<String> {
-    let shard = shard
-        .map(wedged::Shard::parse)
-        .transpose()
-        .map_err(|e| InputError::new_err(format!("shard: {e}")))?;
-    let mut settings = jobs::plan_critical(&CriticalOptions {
-        method: critical_method_of(method)?,
-        tol,
-        time_limit,
-        certify,
-        shard,
-    })
-    .map_err(to_py)?;
-    // As `critical --start`: a contact set, or an earlier result's mapped onto this problem.
-    let (nodes, earlier) = (problem.nodes(), wedged_cli::input::start::Earlier::parse);
-    settings.start = match start {
-        (Some(start), _, _) => Some(start),
-        (None, Some(path), _) => Some(
-            wedged_cli::input::start::start_contact(&path, nodes, model)
-                .map_err(InputError::new_err)?,
-        ),
-        (None, None, Some(text)) => Some(
-            earlier(&text, "the start result")
-                .and_then(|e| e.onto(nodes, model, "the start result"))
-                .map_err(InputError::new_err)?,
-        ),
-        (None, None, None) => None,
-    };
-    released(py, |cancel| {
-        // As `critical`: a fine generated body from its coarser meshes' answer.
-        let given = settings.limits.time_limit;
-        if let Some((path, text)) = file {
-            let show = show(progress);
-            coarse::chain(text, path, problem, model, &mut settings, cancel, show)?;
-        }
-        let mut result =
-            jobs::run_critical_library(problem, &settings, source, cancel, show(progress))?;
-        result.status = coarse::given_limit(result.status, given);
-        if let Some(failure) = jobs::critical_certification_failure(source, &result) {
-            return Err(failure);
-        }
-        Ok(wedged_cli::report::critical::to_json(
-            problem, &settings, source, &result, model,
-        ))
-    })
-}
-
 /// `enumerate(K, mu, dim, method, time_limit, certify, zero_tol, progress, rigid_modes,
 /// shard, jsonl)`: the run of `wedged enumerate` on the condensed stiffness `K` (`shard` is
 /// `"I/N"`; `jsonl` a path, as `--jsonl`).
@@ -477,11 +414,11 @@ fn merge(parts: Vec<(String, String)>) -> PyResult<(String, bool, String)> {
 }
 
 /// `critical(K, dim, method, time_limit, certify, tol, progress, rigid_modes, shard, start,
-/// start_file, start_json)`: the JSON of `wedged critical` on the condensed stiffness `K`
-/// (`shard` is `"I/N"`; `start` a contact set, `start_file` an earlier result, as `--start`,
-/// `start_json` one's text).
+/// start_file, start_json, chain)`: the JSON of `wedged critical` on the condensed stiffness
+/// `K` (`shard` is `"I/N"`; `start` a contact set, `start_file` an earlier result, as
+/// `--start`, `start_json` one's text; `chain` false as `--no-chain`).
 #[pyfunction]
-#[pyo3(signature = (k, dim=2, method=None, time_limit=None, certify=false, tol=None, progress=false, rigid_modes=None, shard=None, start=None, start_file=None, start_json=None))]
+#[pyo3(signature = (k, dim=2, method=None, time_limit=None, certify=false, tol=None, progress=false, rigid_modes=None, shard=None, start=None, start_file=None, start_json=None, chain=true))]
 #[allow(clippy::too_many_arguments)]
 fn critical(
     py: Python<'_>,
@@ -497,6 +434,7 @@ fn critical(
     start: Option<Vec<bool>>,
     start_file: Option<PathBuf>,
     start_json: Option<String>,
+    chain: bool,
 ) -> PyResult<String> {
     // mu plays no part in mu*; 1 passes the check of mu.
     let problem = matrix_problem(&k, rigid_modes.as_ref(), dim, 1.0)?;
@@ -513,6 +451,7 @@ fn critical(
         shard,
         (start, start_file, start_json),
         None,
+        chain,
     )
 }
 
@@ -648,7 +587,8 @@ impl LoadedProblem {
             progress,
             shard,
             (start, start_file, start_json),
-            self.file.as_ref().filter(|_| chain),
+            self.file.as_ref(),
+            chain,
         )
     }
 

@@ -104,6 +104,8 @@ pub(crate) fn run_critical(args: CriticalArgs) -> Result<(), Failure> {
             start_contact(path, job.problem.nodes(), job.model.as_ref()).map_err(Failure::Input)?;
         job.settings.start = Some(start);
     }
+    // --no-chain: neither a coarser mesh nor the condensed problem starts the search.
+    job.settings.condense = !args.no_chain;
     if !args.no_chain {
         job.coarse = coarse::chain(
             &job.text,

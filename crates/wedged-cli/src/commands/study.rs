@@ -121,6 +121,8 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
             .map_err(|e| input(format!("point {label}: {e}")))?;
         let point_source = format!("{source} [{label}]");
         let mut settings = settings.clone();
+        // --no-chain: neither a coarser mesh nor the condensed problem starts a point.
+        settings.condense = !args.no_chain;
         if chain {
             settings.start = chained(&parameters, &grid, &answers, k).and_then(|earlier| {
                 let model = loaded.model.as_ref();

@@ -653,6 +653,17 @@ fn info_lines(out: &mut String, problem: &Problem, result: &Critical) {
                 plural(info.dive_nodes as usize, "node", "nodes"),
                 plural(info.improvement_steps as usize, "step", "steps")
             ));
+        } else if info.condensed_nodes > 0 {
+            // No dive: the run started from its condensed problem's answer.
+            search.push(format!(
+                "the first leaf from the answer of the problem condensed onto {} of its {m} \
+                 nodes (mu* = {} there, {}; no dive), improved in {} of local search over \
+                 contact sets",
+                info.condensed_nodes,
+                info.condensed_mu.map_or_else(|| "?".to_string(), sig4),
+                seconds_text(info.condensed_seconds),
+                plural(info.improvement_steps as usize, "step", "steps")
+            ));
         } else if info.improvement_steps > 0 {
             // No dive: the run started from the caller's contact set (`--start`).
             search.push(format!(

@@ -452,6 +452,7 @@ def critical(
     rigid_modes: Any = None,
     shard: Any = None,
     start: Any = None,
+    chain: bool = True,
 ) -> Critical:
     """The critical friction coefficient ``mu*`` of the condensed stiffness ``K``: the least
     ``mu`` at which WP has a solution ``(u, r) != 0``, bracketed to the relative width ``tol``
@@ -462,12 +463,15 @@ def critical(
     shard of the ``bnb`` search (combined by :func:`merge`; see :mod:`wedged.distributed`).
     ``start``: where the ``bnb`` search starts, as ``critical --start``: a contact set (one
     bool per node), an earlier :class:`Critical` or the path of an earlier result's JSON, with
-    as many nodes; the bracket does not depend on it."""
+    as many nodes; the bracket does not depend on it. Without a start, ``K`` of 80 nodes or
+    more (40 in 3D) is first solved condensed onto about half its nodes and started from that
+    answer (``info["condensed_nodes"]``); ``chain=False`` computes from scratch, as the
+    command's ``--no-chain``."""
     if isinstance(K, Problem):
         _own(K, "critical", dim, rigid_modes)
         return K.critical(
             method=method, time_limit=time_limit, certify=certify, tol=tol, progress=progress,
-            shard=shard, start=start,
+            shard=shard, start=start, chain=chain,
         )
     text = _wedged.critical(
         _matrix(K),
@@ -479,6 +483,7 @@ def critical(
         progress=bool(progress),
         rigid_modes=_modes(rigid_modes),
         shard=_shard(shard),
+        chain=bool(chain),
         **_start(start),
     )
     return Critical._from_json(text)
@@ -553,8 +558,9 @@ class Problem:
         the same body, on this mesh or another (mapped by the contact nodes' positions, as
         ``--start``): a mesh-convergence study in a loop starts each mesh from the last.
         Without a start, a generated body of 80 contact nodes or more (40 in 3D) is first solved with
-        half the divisions (a Gmsh script's mesh with every mesh size doubled) and started from
-        that answer, as the command does; ``chain=False`` computes from scratch (``--no-chain``)."""
+        half the divisions (a Gmsh script's mesh with every mesh size doubled), any other
+        problem that large condensed onto about half its nodes, and started from that answer,
+        as the command does; ``chain=False`` computes from scratch (``--no-chain``)."""
         if "shard" in kw:
             kw["shard"] = _shard(kw["shard"])
         kw.update(_start(kw.pop("start", None)))

@@ -47,6 +47,7 @@
 
 mod bnb;
 pub mod certify;
+mod condensed;
 mod edge;
 mod enumerate;
 mod exact;
@@ -171,6 +172,12 @@ pub struct CriticalSettings {
     /// after 340 s; `BENCHMARKS.md`.) Not used by a certified run, a shard (whose top must be
     /// the same in every process) or the other methods. `None` (the default): the dive.
     pub start: Option<Vec<bool>>,
+    /// Without a `start`, start `bnb` on a large problem (80 nodes or more in 2D, 40 in 3D;
+    /// not certified, not a shard, not a floating body) from the answer of the problem
+    /// condensed onto about half its nodes (`critical/condensed.rs`;
+    /// [`CriticalInfo::condensed_nodes`]). It changes how fast the bracket is found, never the
+    /// bracket. Default `true`; `false` computes from scratch (the command's `--no-chain`).
+    pub condense: bool,
 }
 
 impl Default for CriticalSettings {
@@ -183,6 +190,7 @@ impl Default for CriticalSettings {
             fault: None,
             shard: None,
             start: None,
+            condense: true,
         }
     }
 }
@@ -299,6 +307,13 @@ pub struct CriticalInfo {
     pub groups: u64,
     /// Wall-clock seconds.
     pub seconds: f64,
+    /// The nodes of the condensed problem whose answer started `bnb`
+    /// ([`CriticalSettings::condense`]); 0 when none did.
+    pub condensed_nodes: u64,
+    /// That problem's `mu*` (its upper end if its run stopped early).
+    pub condensed_mu: Option<f64>,
+    /// The seconds its run took (within `seconds`).
+    pub condensed_seconds: f64,
 }
 
 /// The result of [`critical`].
@@ -438,6 +453,10 @@ pub fn critical_with_control(
         }
     }
     let start = Instant::now();
+    // A large problem with no start given starts from its condensed problem's answer.
+    let given = settings.limits.time_limit;
+    let (condensed, own) = condensed::started(problem, settings, cancel, start)?;
+    let settings = own.as_ref().unwrap_or(settings);
     // Everything below runs on the problem in per-node units that bring K's diagonal near 1
     // (exactly equivalent, see Problem::equilibrated); the witness is mapped back at the end.
     let original = problem;
@@ -455,6 +474,9 @@ pub fn critical_with_control(
     };
     let mut info = CriticalInfo {
         method: settings.method.name(),
+        condensed_nodes: condensed.as_ref().map_or(0, |c| c.nodes as u64),
+        condensed_mu: condensed.as_ref().map(|c| c.mu),
+        condensed_seconds: condensed.as_ref().map_or(0.0, |c| c.seconds),
         ..CriticalInfo::default()
     };
     let found = if control.must_stop(0) {
@@ -497,6 +519,7 @@ pub fn critical_with_control(
         None => None,
     };
     let upper = found.best.as_ref().map(|b| b.theta);
+    let stop = condensed::given_limit(stop, given);
     let (status, lower) = match (stop, upper) {
         // A stopped run keeps what its finished passes proved: `mu* > proved`.
         (Some(s), _) => (CriticalStatus::Incomplete(s), found.proved),

@@ -117,6 +117,10 @@ pub(super) fn add_info(sum: &mut CriticalInfo, part: &CriticalInfo) {
         uncertain,
         groups: _,
         seconds,
+        // A shard has no condensed start (its top must be the same in every process).
+        condensed_nodes: _,
+        condensed_mu: _,
+        condensed_seconds: _,
     } = *part;
     sum.nodes_visited += nodes_visited;
     sum.pruned_infeasible += pruned_infeasible;

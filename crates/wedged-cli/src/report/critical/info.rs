@@ -30,6 +30,9 @@ pub struct CriticalInfoJson {
     pub uncertain: u64,
     pub groups: u64,
     pub seconds: f64,
+    pub condensed_nodes: u64,
+    pub condensed_mu: Option<f64>,
+    pub condensed_seconds: f64,
     /// The process's peak resident memory ([`crate::report::json::peak_rss_bytes`]).
     pub peak_rss_bytes: Option<u64>,
 }
@@ -61,6 +64,9 @@ impl CriticalInfoJson {
             uncertain,
             groups,
             seconds,
+            condensed_nodes,
+            condensed_mu,
+            condensed_seconds,
         } = *info;
         CriticalInfoJson {
             method,
@@ -86,6 +92,9 @@ impl CriticalInfoJson {
             uncertain,
             groups,
             seconds,
+            condensed_nodes,
+            condensed_mu,
+            condensed_seconds,
             peak_rss_bytes: crate::report::json::peak_rss_bytes(),
         }
     }
