@@ -138,10 +138,9 @@ pub(crate) struct CriticalArgs {
     /// not depend on it. Not used with --certify or --shard.
     #[arg(long, value_name = "PREVIOUS.json")]
     pub(crate) start: Option<PathBuf>,
-    /// Compute from scratch. By default a generated body ([mesh.generate]) with 80 contact
-    /// nodes or more in 2D, 40 in 3D, is first solved with half the divisions (a Gmsh script's
-    /// mesh, with every mesh size doubled; itself so, while large enough), and the search starts
-    /// from that wedge as --start would; the bracket does not depend on it
+    /// Compute from scratch. By default a problem of 80 contact nodes or more in 2D, 40 in 3D,
+    /// is first solved condensed onto about half its nodes (itself so, while large enough), and
+    /// the search starts from that wedge as --start would; the bracket does not depend on it
     #[arg(long)]
     pub(crate) no_chain: bool,
 }
@@ -216,7 +215,9 @@ pub(crate) struct StudyArgs {
     pub(crate) certify: bool,
     /// Compute every point from scratch. By default a point on a finer mesh (a refining key
     /// changed, the others the same) starts its search from the answer of the last such point
-    /// computed, as `critical --start` does; the brackets do not depend on it
+    /// computed, as `critical --start` does, and any other point of 80 contact nodes or more
+    /// (40 in 3D) from its problem condensed onto about half its nodes, as `critical` does; the
+    /// brackets do not depend on it
     #[arg(long)]
     pub(crate) no_chain: bool,
     /// --tol as for `critical`; --time-limit applies to each point

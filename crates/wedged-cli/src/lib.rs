@@ -11,7 +11,6 @@
 //! bindings both make it), [`report`] (the summaries, the JSON and the output files) and
 //! [`study`] (the grid, CSV and extrapolation of `wedged study`).
 
-pub mod coarse;
 pub mod input;
 pub mod jobs;
 pub mod report;

@@ -220,7 +220,7 @@ fn set_half_angle(table: &mut Table, degrees: f64) -> Result<(), String> {
 }
 
 /// Whether a problem file's mesh is a Gmsh script (`gmsh = "body.geo"`).
-pub fn is_script(table: &Table) -> bool {
+fn is_script(table: &Table) -> bool {
     table
         .get("mesh")
         .and_then(|m| m.get("gmsh"))
@@ -280,28 +280,6 @@ fn refine(table: &mut Table, factor: f64) -> Result<(), String> {
             "--vary {REFINE}: [mesh.generate] has no division counts"
         ))
     }
-}
-
-/// The problem file's table with every division count of `[mesh.generate]` halved, rounded up,
-/// or a Gmsh script's mesh sizes doubled (`critical`'s coarser start, [`crate::coarse`]); `None`
-/// where it has neither (no division count above 1).
-pub fn coarsened(base: &Table) -> Option<Table> {
-    let mut table = base.clone();
-    if script_table(&mut table).is_some() {
-        return scale_script(&mut table, 2.0).map(|()| table);
-    }
-    let generate = generate_table(&mut table, REFINE).ok()?;
-    let mut any = false;
-    for key in DIVISIONS {
-        if let Some(Value::Integer(n)) = generate.get(key) {
-            if *n >= 2 {
-                let halved = (n + 1) / 2;
-                generate.insert(key.to_string(), Value::Integer(halved));
-                any = true;
-            }
-        }
-    }
-    any.then_some(table)
 }
 
 /// The dotted names of the numbers a problem file's table sets (not inside arrays), in order.

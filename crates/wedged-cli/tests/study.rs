@@ -255,19 +255,20 @@ fn finer_points_start_from_the_coarser_answer_of_the_same_body() {
 }
 
 /// A point of 80 contact nodes or more with no coarser point before it starts, as `critical`
-/// does, from its body with half the divisions (not with `--no-chain`); the same `mu*`.
+/// does, from its problem condensed onto about half its nodes (not with `--no-chain`); the
+/// same `mu*`.
 #[test]
-fn a_fine_first_point_starts_from_half_its_divisions() {
+fn a_large_first_point_starts_from_its_condensed_problem() {
     let dir = tempfile::tempdir().unwrap();
     let base = dir.path().join("plug.toml");
     fs::write(&base, plug(0.3, 40, 2.0)).unwrap();
     let mut mu = Vec::new();
-    for (name, extra) in [("halved", None), ("scratch", Some("--no-chain"))] {
+    for (name, extra) in [("condensed", None), ("scratch", Some("--no-chain"))] {
         let out_dir = dir.path().join(name);
         let out = one_point(&base, &out_dir, extra.as_slice());
         let said = text(&out.stdout);
         assert_eq!(
-            said.contains("started from the same body with half the divisions"),
+            said.contains("started from its problem condensed onto "),
             extra.is_none(),
             "{said}"
         );

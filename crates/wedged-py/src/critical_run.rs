@@ -20,7 +20,6 @@ pub(crate) fn critical_json(
     progress: bool,
     shard: Option<&str>,
     start: Start,
-    file: Option<&(PathBuf, String)>,
     chain: bool,
 ) -> PyResult<String> {
     let shard = shard
@@ -50,18 +49,11 @@ pub(crate) fn critical_json(
         ),
         (None, None, None) => None,
     };
-    // `chain = False`, as `--no-chain`: neither a coarser mesh nor the condensed problem.
+    // `chain = False`, as `--no-chain`: no condensed problem starts the search.
     settings.condense = chain;
     released(py, |cancel| {
-        // As `critical`: a fine generated body from its coarser meshes' answer.
-        let given = settings.limits.time_limit;
-        if let Some((path, text)) = file.filter(|_| chain) {
-            let show = show(progress);
-            coarse::chain(text, path, problem, model, &mut settings, cancel, show)?;
-        }
-        let mut result =
+        let result =
             jobs::run_critical_library(problem, &settings, source, cancel, show(progress))?;
-        result.status = coarse::given_limit(result.status, given);
         if let Some(failure) = jobs::critical_certification_failure(source, &result) {
             return Err(failure);
         }

@@ -29,7 +29,6 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString};
 use wedged::fe::{ElementKind, Model};
 use wedged::Problem;
-use wedged_cli::coarse;
 use wedged_cli::input::problem_file;
 use wedged_cli::jobs::{
     self, CriticalMethodArg, CriticalOptions, EnumerateOptions, Enumerated, Failure, MethodArg,
@@ -450,7 +449,6 @@ fn critical(
         progress,
         shard,
         (start, start_file, start_json),
-        None,
         chain,
     )
 }
@@ -463,8 +461,6 @@ struct LoadedProblem {
     /// Whether the file gives `mu`.
     mu_given: bool,
     source: String,
-    /// The file's path and text, for `critical`'s coarser meshes ([`coarse::chain`]).
-    file: Option<(PathBuf, String)>,
 }
 
 #[pymethods]
@@ -587,7 +583,6 @@ impl LoadedProblem {
             progress,
             shard,
             (start, start_file, start_json),
-            self.file.as_ref(),
             chain,
         )
     }
@@ -713,14 +708,11 @@ fn load(py: Python<'_>, path: PathBuf) -> PyResult<LoadedProblem> {
     let (loaded, mu_given) = py
         .detach(|| problem_file::load_for_critical(&path))
         .map_err(|e| InputError::new_err(one_line(&e.to_string())))?;
-    // Kept for `critical`'s coarser meshes; a file that cannot be read again only skips them.
-    let file = std::fs::read_to_string(&path).ok().map(|text| (path, text));
     Ok(LoadedProblem {
         problem: loaded.problem,
         model: loaded.model,
         mu_given,
         source,
-        file,
     })
 }
 

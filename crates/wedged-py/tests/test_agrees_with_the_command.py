@@ -70,10 +70,10 @@ def test_a_matrix_from_python_equals_its_problem_file(tmp_path):
     same_critical(critical, command)
 
 
-def test_critical_chains_a_fine_generated_mesh_as_the_command(tmp_path):
-    """A generated 2D body of 80 contact nodes or more is first solved with half the divisions
-    and started from that answer, as the command does (the dive skipped); `chain=False` as
-    `--no-chain` dives; the same answer all three ways."""
+def test_critical_starts_a_large_problem_condensed_as_the_command(tmp_path):
+    """A problem of 80 contact nodes or more is first solved condensed onto about half its
+    nodes and started from that answer, as the command does (the dive skipped), loaded or as a
+    matrix; `chain=False` as `--no-chain` dives; the same answer every way."""
     text = (EXAMPLES / "plug2d.toml").read_text()
     text = text.replace("nx = 8 ", "nx = 3 ").replace("ny = 6 ", "ny = 40 ")
     path = tmp_path / "fine.toml"
@@ -87,6 +87,13 @@ def test_critical_chains_a_fine_generated_mesh_as_the_command(tmp_path):
     same_critical(scratch, command)
     assert chained["info"]["dive_nodes"] == 0 and command["info"]["dive_nodes"] == 0
     assert scratch["info"]["dive_nodes"] > 0
+    assert chained["info"]["condensed_nodes"] == command["info"]["condensed_nodes"] > 0
+    assert scratch["info"]["condensed_nodes"] == 0
+    matrix = wedged.critical(problem.K)
+    assert matrix.info["condensed_nodes"] == chained["info"]["condensed_nodes"]
+    assert wedged.critical(problem.K, chain=False).info["condensed_nodes"] == 0
+    width = 2 * command["tol"] * command["upper"]
+    assert abs(matrix.mu - command["mu_critical"]) <= width
 
 
 def test_critical_start_equals_the_command(tmp_path):

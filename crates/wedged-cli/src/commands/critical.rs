@@ -13,7 +13,6 @@ use crate::draw::sweep_svg;
 use crate::report::files::write_atomic;
 use crate::report::files::{JsonTarget, PendingFile};
 use crate::report::{self, summary};
-use wedged_cli::coarse;
 use wedged_cli::input::problem_file;
 use wedged_cli::input::start::start_contact;
 use wedged_cli::jobs::{
@@ -31,13 +30,6 @@ pub(crate) struct CriticalJob<'a> {
     svg: Option<&'a Path>,
     /// `sweep --vtk`: the directory of the thresholds' configurations.
     vtk: Option<&'a Path>,
-    /// The coarser meshes' answers the search started from ([`wedged_cli::coarse`]), a line
-    /// each.
-    coarse: Vec<String>,
-    /// The problem file's text, as read once (the coarser meshes are edited from it).
-    text: String,
-    /// The time limit given, which the coarser meshes' runs shorten in `settings`.
-    time_limit: Option<std::time::Duration>,
 }
 
 /// Checks the options (the library checks --tol) and loads the problem of `critical` or
@@ -68,9 +60,6 @@ pub(crate) fn critical_job<'a>(
         json,
         svg,
         vtk: None,
-        coarse: Vec::new(),
-        text,
-        time_limit: settings.limits.time_limit,
         settings,
     })
 }
@@ -104,19 +93,8 @@ pub(crate) fn run_critical(args: CriticalArgs) -> Result<(), Failure> {
             start_contact(path, job.problem.nodes(), job.model.as_ref()).map_err(Failure::Input)?;
         job.settings.start = Some(start);
     }
-    // --no-chain: neither a coarser mesh nor the condensed problem starts the search.
+    // --no-chain: no condensed problem starts the search.
     job.settings.condense = !args.no_chain;
-    if !args.no_chain {
-        job.coarse = coarse::chain(
-            &job.text,
-            &args.problem,
-            &job.problem,
-            job.model.as_ref(),
-            &mut job.settings,
-            &INTERRUPTED,
-            Show::Terminal,
-        )?;
-    }
     report_critical(job)
 }
 
@@ -222,9 +200,6 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
         json,
         svg,
         vtk,
-        coarse,
-        text,
-        time_limit,
     } = job;
     let json = json
         .map(JsonTarget::open)
@@ -234,9 +209,7 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
         .map(|path| PendingFile::open(path, "SVG file"))
         .transpose()
         .map_err(|e| Failure::Input(e.to_string()))?;
-    let mut result =
-        run_critical_library(&problem, &settings, &source, &INTERRUPTED, Show::Terminal)?;
-    result.status = coarse::given_limit(result.status, time_limit);
+    let result = run_critical_library(&problem, &settings, &source, &INTERRUPTED, Show::Terminal)?;
     let json_text = json
         .as_ref()
         .map(|_| report::critical::to_json(&problem, &settings, &source, &result, model.as_ref()));
@@ -282,17 +255,6 @@ pub(crate) fn report_critical(job: CriticalJob) -> Result<(), Failure> {
             };
             if let Some(model) = &model {
                 stdout_text.push_str(&summary::model(&source, model));
-            }
-            if !coarse.is_empty() {
-                stdout_text.push_str(&format!(
-                    "the same body with {} first, its wedge this search's start (--no-chain: \
-                     from scratch):\n",
-                    coarse::how(&text)
-                ));
-                for line in &coarse {
-                    stdout_text.push_str(&format!("  {line}\n"));
-                }
-                stdout_text.push('\n');
             }
             stdout_text.push_str(&report::critical::render(
                 &problem, &settings, &source, file_mu, &result, json_path,

@@ -19,7 +19,6 @@ use crate::report::critical::mu_text;
 use crate::report::files::write_atomic;
 use crate::report::sig4;
 use crate::report::upper_text;
-use wedged_cli::coarse;
 use wedged_cli::input::problem_file;
 use wedged_cli::input::start::Earlier;
 use wedged_cli::jobs::{plan_critical, run_critical_library, CriticalOptions};
@@ -121,7 +120,7 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
             .map_err(|e| input(format!("point {label}: {e}")))?;
         let point_source = format!("{source} [{label}]");
         let mut settings = settings.clone();
-        // --no-chain: neither a coarser mesh nor the condensed problem starts a point.
+        // --no-chain: neither a coarser point nor the condensed problem starts a point.
         settings.condense = !args.no_chain;
         if chain {
             settings.start = chained(&parameters, &grid, &answers, k).and_then(|earlier| {
@@ -130,21 +129,9 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
                 start.ok().filter(|s| s.contains(&true))
             });
         }
+        // A point with no coarser point before it starts, as `critical` does on a large
+        // problem, from its problem condensed onto about half its nodes (the library's).
         let chained_from = settings.start.is_some();
-        // A point with no coarser point before it: its body with half the divisions (a
-        // script's mesh sizes doubled), as `critical` does on a fine mesh.
-        let halved = !args.no_chain
-            && !chained_from
-            && !coarse::chain(
-                &edited,
-                &args.problem,
-                &loaded.problem,
-                loaded.model.as_ref(),
-                &mut settings,
-                &INTERRUPTED,
-                Show::Terminal,
-            )?
-            .is_empty();
         let result = run_critical_library(
             &loaded.problem,
             &settings,
@@ -188,12 +175,10 @@ pub(crate) fn run_study(args: StudyArgs) -> Result<(), Failure> {
             "  [{:>w$}/{total}] {label}: {}{}\n",
             k + 1,
             row_text(&row),
-            if chained_from {
-                ", started from the coarser answer".to_string()
-            } else if halved {
-                format!(", started from the same body with {}", coarse::how(&edited))
-            } else {
-                String::new()
+            match (chained_from, result.info.condensed_nodes) {
+                (true, _) => ", started from the coarser answer".to_string(),
+                (false, 0) => String::new(),
+                (false, n) => format!(", started from its problem condensed onto {n} nodes"),
             },
             w = total.to_string().len()
         ))?;

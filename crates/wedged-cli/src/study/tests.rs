@@ -6,37 +6,12 @@ fn table(text: &str) -> Table {
     text.parse().unwrap()
 }
 
-/// Every division count halved, rounded up (1 stays); nothing to coarsen without them.
-#[test]
-fn coarsened_halves_the_division_counts() {
-    let base =
-        table("mu = 2.0\n[mesh.generate]\nkind = \"plug2d\"\nnx = 25\nny = 40\nheight = 1.0\n");
-    let coarse = coarsened(&base).unwrap();
-    let generate = coarse["mesh"]["generate"].as_table().unwrap();
-    assert_eq!(generate["nx"].as_integer(), Some(13));
-    assert_eq!(generate["ny"].as_integer(), Some(20));
-    assert_eq!(generate["height"].as_float(), Some(1.0));
-    assert_eq!(coarse["mu"].as_float(), Some(2.0));
-    let one = table("[mesh.generate]\nnx = 1\nnz = 3\n");
-    assert_eq!(
-        coarsened(&one).unwrap()["mesh"]["generate"]["nz"].as_integer(),
-        Some(2)
-    );
-    assert!(coarsened(&table("[mesh.generate]\nnx = 1\nny = 1\n")).is_none());
-    assert!(coarsened(&table("[mesh]\nfile = \"a.msh\"\n")).is_none());
-    assert!(coarsened(&table("mu = 1.0\n")).is_none());
-}
-
-/// A Gmsh script's coarser mesh doubles its `size_factor`, and `refine` divides it; a mesh
-/// file has neither.
+/// `refine` divides a Gmsh script's `size_factor` (1 where it has none); a mesh file has none.
 #[test]
 fn a_scripts_mesh_sizes_scale() {
     let script = table("mu = 2.0\n[mesh]\ngmsh = \"body.GEO\"\n[mesh.parameters]\nlc = 0.1\n");
     let factor = |t: &Table| t["mesh"]["size_factor"].as_float();
-    let coarse = coarsened(&script).unwrap();
-    assert_eq!(factor(&coarse), Some(2.0));
-    assert_eq!(factor(&coarsened(&coarse).unwrap()), Some(4.0));
-    assert_eq!(coarse["mesh"]["parameters"]["lc"].as_float(), Some(0.1));
+    let coarse = table("[mesh]\ngmsh = \"body.geo\"\nsize_factor = 2.0\n");
     let refine = Parameter {
         key: REFINE.into(),
         values: vec![1.5],
@@ -50,10 +25,10 @@ fn a_scripts_mesh_sizes_scale() {
     let e = apply(&script, std::slice::from_ref(&refine), &[0.5]).unwrap_err();
     assert!(e.contains("refinement factor is a number >= 1"), "{e}");
     let words = table("[mesh]\ngmsh = \"body.geo\"\nsize_factor = \"two\"\n");
-    assert!(coarsened(&words).is_none());
-    let e = apply(&words, &[refine], &[2.0]).unwrap_err();
+    let e = apply(&words, std::slice::from_ref(&refine), &[2.0]).unwrap_err();
     assert!(e.contains("size_factor is not a number"), "{e}");
-    assert!(coarsened(&table("[mesh]\ngmsh = \"body.msh\"\n")).is_none());
+    let e = apply(&table("[mesh]\ngmsh = \"body.msh\"\n"), &[refine], &[2.0]).unwrap_err();
+    assert!(e.contains("applies to a generated body"), "{e}");
     assert!(refines("mesh.size_factor") && refines(REFINE));
     assert!(!refines("mesh.parameters.lc"));
 }

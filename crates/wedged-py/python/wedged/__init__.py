@@ -557,10 +557,9 @@ class Problem:
         """As :func:`critical`; a ``start`` path or :class:`Critical` is an earlier result of
         the same body, on this mesh or another (mapped by the contact nodes' positions, as
         ``--start``): a mesh-convergence study in a loop starts each mesh from the last.
-        Without a start, a generated body of 80 contact nodes or more (40 in 3D) is first solved with
-        half the divisions (a Gmsh script's mesh with every mesh size doubled), any other
-        problem that large condensed onto about half its nodes, and started from that answer,
-        as the command does; ``chain=False`` computes from scratch (``--no-chain``)."""
+        Without a start, a problem of 80 contact nodes or more (40 in 3D) is first solved
+        condensed onto about half its nodes and started from that answer, as the command does;
+        ``chain=False`` computes from scratch (``--no-chain``)."""
         if "shard" in kw:
             kw["shard"] = _shard(kw["shard"])
         kw.update(_start(kw.pop("start", None)))
