@@ -22,10 +22,7 @@ pub(crate) fn critical_json(
     start: Start,
     chain: bool,
 ) -> PyResult<String> {
-    let shard = shard
-        .map(wedged::Shard::parse)
-        .transpose()
-        .map_err(|e| InputError::new_err(format!("shard: {e}")))?;
+    let shard = shard_of(shard)?;
     let mut settings = jobs::plan_critical(&CriticalOptions {
         method: critical_method_of(method)?,
         tol,

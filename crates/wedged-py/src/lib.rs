@@ -172,6 +172,14 @@ fn method_of(name: Option<&str>) -> PyResult<Option<MethodArg>> {
     .transpose()
 }
 
+/// The `shard` argument (`"I/N"`), an `InputError` naming it where it does not parse.
+fn shard_of(shard: Option<&str>) -> PyResult<Option<wedged::Shard>> {
+    shard
+        .map(wedged::Shard::parse)
+        .transpose()
+        .map_err(|e| InputError::new_err(format!("shard: {e}")))
+}
+
 fn critical_method_of(name: Option<&str>) -> PyResult<Option<wedged::CriticalMethod>> {
     name.map(|n| {
         CriticalMethodArg::named(n).ok_or_else(|| {
@@ -207,10 +215,7 @@ fn enumerate_run(
     shard: Option<&str>,
     jsonl: Option<PathBuf>,
 ) -> PyResult<EnumerationRun> {
-    let shard = shard
-        .map(wedged::Shard::parse)
-        .transpose()
-        .map_err(|e| InputError::new_err(format!("shard: {e}")))?;
+    let shard = shard_of(shard)?;
     let options = EnumerateOptions {
         method: method_of(method)?,
         zero_tol,

@@ -98,15 +98,19 @@ def test_a_parameter_the_script_overwrites_is_refused(tmp_path):
     assert wedged.load(toml).K.shape[0] > 0
 
 
-def test_a_study_varies_the_scripts_parameters(tmp_path):
-    out = tmp_path / "study"
+def study(out: Path, *options: str) -> tuple:
+    """`wedged study examples/plug2d_geo.toml OPTIONS --out OUT`, which must succeed: its
+    output and the rows of its CSV."""
     done = subprocess.run(
-        [str(wedged_bin()), "study", str(EXAMPLES / "plug2d_geo.toml"),
-         "--vary", "mesh.parameters.half_angle=15,35", "--out", str(out)],
+        [str(wedged_bin()), "study", str(EXAMPLES / "plug2d_geo.toml"), *options, "--out", str(out)],
         capture_output=True, text=True,
     )
     assert done.returncode == 0, done.stderr
-    rows = list(csv.DictReader((out / "study.csv").open()))
+    return done, list(csv.DictReader((out / "study.csv").open()))
+
+
+def test_a_study_varies_the_scripts_parameters(tmp_path):
+    _, rows = study(tmp_path / "study", "--vary", "mesh.parameters.half_angle=15,35")
     assert [r["mesh.parameters.half_angle"] for r in rows] == ["15", "35"]
     mus = [float(r["mu_star"]) for r in rows]
     assert all(r["complete"] == "true" for r in rows)
@@ -115,14 +119,7 @@ def test_a_study_varies_the_scripts_parameters(tmp_path):
 
 def test_a_mesh_size_study_of_a_script_extrapolates(tmp_path):
     """The script's mesh size varied first, against h: one line, extrapolated to h = 0."""
-    out = tmp_path / "sizes"
-    done = subprocess.run(
-        [str(wedged_bin()), "study", str(EXAMPLES / "plug2d_geo.toml"),
-         "--vary", "mesh.parameters.lc=0.2,0.1,0.07,0.05", "--x", "h", "--out", str(out)],
-        capture_output=True, text=True,
-    )
-    assert done.returncode == 0, done.stderr
-    rows = list(csv.DictReader((out / "study.csv").open()))
+    done, rows = study(tmp_path / "sizes", "--vary", "mesh.parameters.lc=0.2,0.1,0.07,0.05", "--x", "h")
     hs = [float(r["h"]) for r in rows]
     assert hs == sorted(hs, reverse=True) and len(set(hs)) == 4
     assert "extrapolated to h = 0: mu* = " in done.stdout, done.stdout
@@ -145,14 +142,7 @@ def test_size_factor_scales_every_mesh_size(tmp_path):
 def test_refine_studies_any_script(tmp_path):
     """`--vary refine=...` on a script divides its size factor: h falls with the factor, and
     each finer point starts from the coarser answer."""
-    out = tmp_path / "refine"
-    done = subprocess.run(
-        [str(wedged_bin()), "study", str(EXAMPLES / "plug2d_geo.toml"),
-         "--vary", "refine=1,1.5,2", "--out", str(out)],
-        capture_output=True, text=True,
-    )
-    assert done.returncode == 0, done.stderr
-    rows = list(csv.DictReader((out / "study.csv").open()))
+    done, rows = study(tmp_path / "refine", "--vary", "refine=1,1.5,2")
     hs = [float(r["h"]) for r in rows]
     ms = [int(r["m"]) for r in rows]
     assert hs == sorted(hs, reverse=True) and ms == sorted(ms) and len(set(ms)) == 3
