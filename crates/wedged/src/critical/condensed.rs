@@ -123,6 +123,8 @@ pub(crate) fn start(
     };
     let mut sub = settings.clone();
     sub.start = None;
+    // A test's injected fault is the run's own, not its start's.
+    sub.fault = None;
     let result = match critical_with_control(&small, &sub, &|_| {}, cancel) {
         Ok(result) => result,
         Err(e @ EnumerateError::Internal(_)) => return Err(e),
