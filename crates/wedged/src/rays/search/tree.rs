@@ -71,8 +71,24 @@ const TIGHTEN_DEPTH: usize = 3;
 /// took 1.1 to 1.25 times as long without tightening, so it tightens from 20 nodes on.)
 const TIGHTEN_FROM: usize = 20;
 
-/// The root settles its bounds ([`node_lp::tighten_node`]) from this many nodes on.
+/// The root settles its bounds ([`node_lp::tighten_node`]) from this many nodes on, and the
+/// nodes at depths below [`settle_depth`] do: `(m - SETTLE_FROM) / SETTLE_EVERY`, at least
+/// 1 and at most [`SETTLE_DEEPEST`].
 const SETTLE_FROM: usize = 40;
+
+/// ... one depth more for each this many nodes. A settled node refutes or shrinks subtrees
+/// that hold no leaf (most of a large plug's tree) where one round of tightening leaves them
+/// whole. (Measured on issue 20's plug, `mu = 2`, whole process, 2 cores, one run each,
+/// 2026-11-30: m = 50, settling depths 1, 2: 0.33, 0.34 s (12.4k, 8.6k nodes); m = 60, 1, 2:
+/// 0.64, 0.95 s (20.3k, 17.4k); m = 80, 1, 2, 3: 6.47, 3.95, 5.95 s (170k, 98k, 67k); m = 100,
+/// 1, 2, 3, 4: 54.7, 45.2, 36.0, 86.0 s (961k, 748k, 577k, 325k). Settling every node at
+/// m = 60 left 14.2k nodes and took 3.4 s: it does not refute every dead subtree.)
+const SETTLE_EVERY: usize = 20;
+
+/// ... and no deeper than this: at m = 120 settling down to depth 4 halved the tree (9.64M
+/// nodes to 4.48M) but took 1,051 s against 852 s, its programs so ill-conditioned that
+/// 16k of them went to Clarabel (2 without), 10 of those undecided.
+const SETTLE_DEEPEST: usize = 3;
 
 /// ... in this many parts ([`node_lp::Settle::InParts`]: each part's programs with the cuts of
 /// the parts before it), as `critical`'s passes do. (Measured on issue 20's plug at 2.0,
@@ -187,6 +203,9 @@ struct Search<'a, 'f> {
     pruned: AtomicU64,
     /// Search nodes above this depth tighten the drive bounds ([`tighten_depth`]).
     tighten_depth: usize,
+    /// ... and those above this one settle them ([`settle_depth`]; `0` but for the whole
+    /// search's tree).
+    settle_depth: usize,
     /// The root's classes (every node free, or a subtree's for [`presses_a_free_node`]).
     root: Vec<Class>,
     tightened: AtomicU64,
@@ -200,6 +219,28 @@ impl<'a, 'f> Search<'a, 'f> {
         root: Vec<Class>,
     ) -> Search<'a, 'f> {
         let m = lp.form().m;
+        let tighten = if lp.form().modes > 0 || lp.form().refutations.is_some() {
+            0
+        } else {
+            tighten_depth(m)
+        };
+        let whole = root.iter().all(|&c| c == Class::Free);
+        let depths = Depths {
+            tighten,
+            settle: if whole { settle_depth(m) } else { 0 },
+        };
+        Search::with_depths(lp, control, on_leaf, root, depths)
+    }
+
+    /// [`Search::new`] with the depths given.
+    fn with_depths(
+        lp: &'a ContactLp<'f>,
+        control: &'a Control<'a>,
+        on_leaf: OnLeaf<'a>,
+        root: Vec<Class>,
+        depths: Depths,
+    ) -> Search<'a, 'f> {
+        let m = lp.form().m;
         Search {
             lp,
             control,
@@ -210,14 +251,8 @@ impl<'a, 'f> Search<'a, 'f> {
             nodes: AtomicU64::new(0),
             inherited: AtomicU64::new(0),
             pruned: AtomicU64::new(0),
-            // A floating body's gaps also follow its rigid amplitudes, which the drive cuts do
-            // not bound: no cuts (`critical`'s bnb does the same). Nor in a certified run: the
-            // cuts rest on floating-point optima that are not kept for an exact check.
-            tighten_depth: if lp.form().modes > 0 || lp.form().refutations.is_some() {
-                0
-            } else {
-                tighten_depth(m)
-            },
+            tighten_depth: depths.tighten,
+            settle_depth: depths.settle.min(depths.tighten),
             tightened: AtomicU64::new(0),
             root,
         }
@@ -319,9 +354,9 @@ impl shard::Tree for Search<'_, '_> {
             };
             // The root of the whole search settles its bounds (every node inherits them), on
             // a problem large enough for it to pay (a random m = 9 problem: 155 programs
-            // without, 214 with; the plug: m = 40 even, m = 50 and up faster).
-            let settle =
-                depth == 0 && m >= SETTLE_FROM && classes.iter().all(|&c| c == Class::Free);
+            // without, 214 with; the plug: m = 40 even, m = 50 and up faster), and on a larger
+            // one the nodes just below it.
+            let settle = depth < self.settle_depth;
             let Some((tight, start, kept)) = node_lp::tighten_node(
                 form,
                 counters,
@@ -463,6 +498,26 @@ impl shard::Tree for Search<'_, '_> {
     }
 }
 
+/// How deep a search over all contact sets tightens and settles (the whole search: both
+/// [`tighten_depth`] and [`settle_depth`]; a subtree's search settles nowhere).
+#[derive(Debug, Clone, Copy)]
+struct Depths {
+    tighten: usize,
+    settle: usize,
+}
+
+/// The depth down to which the nodes of a search over all contact sets of a problem of `m`
+/// nodes settle their drive bounds (nodes at depths below it settle): none below
+/// [`SETTLE_FROM`] nodes, the root from there, one depth more every [`SETTLE_EVERY`] nodes
+/// from `SETTLE_FROM + 2 SETTLE_EVERY` on (where it pays, see [`SETTLE_EVERY`]), down to
+/// [`SETTLE_DEEPEST`].
+pub(crate) fn settle_depth(m: usize) -> usize {
+    if m < SETTLE_FROM {
+        return 0;
+    }
+    ((m - SETTLE_FROM) / SETTLE_EVERY).clamp(1, SETTLE_DEEPEST)
+}
+
 /// The depth down to which search nodes tighten the drive bounds of a problem of `m` nodes
 /// (nodes at depths below it tighten; the rest inherit the bounds; none below
 /// [`TIGHTEN_FROM`] nodes).
@@ -472,3 +527,6 @@ pub(crate) fn tighten_depth(m: usize) -> usize {
     }
     TIGHTEN_DEPTH.max(m.saturating_sub(20) / 20)
 }
+
+#[cfg(test)]
+mod tests;
