@@ -219,6 +219,9 @@ impl<'a, 'f> Search<'a, 'f> {
         root: Vec<Class>,
     ) -> Search<'a, 'f> {
         let m = lp.form().m;
+        // A floating body's gaps also follow its rigid amplitudes, which the drive cuts do not
+        // bound: no cuts (`critical`'s bnb does the same). Nor in a certified run: the cuts
+        // rest on floating-point optima that are not kept for an exact check.
         let tighten = if lp.form().modes > 0 || lp.form().refutations.is_some() {
             0
         } else {
