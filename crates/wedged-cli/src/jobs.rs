@@ -640,10 +640,21 @@ pub fn critical_progress_text(p: CriticalProgress, seconds: f64) -> String {
         Some(bar) => format!("pass at mu <= {}: ", crate::report::sig4(bar)),
         None => String::new(),
     };
+    // The start's run on the condensed problem: its numbers are that problem's, not yet mu*'s.
+    let start = match p.condensed {
+        Some(n) => format!("start, condensed onto {n} nodes: "),
+        None => String::new(),
+    };
+    // The programs go inside the tree's parentheses: `(7065 nodes of about 19k, 15468 linear
+    // programs)`.
+    let tree = match (tree_size(p.nodes, share), p.programs) {
+        (tree, 0) => tree,
+        (tree, n) if tree.is_empty() => format!(" ({n} linear programs)"),
+        (tree, n) => format!("{}, {n} linear programs)", tree.trim_end_matches(')')),
+    };
     format!(
-        "{pass}explored {:.1}%{}, {best}, {seconds:.1} s",
-        100.0 * share,
-        tree_size(p.nodes, share)
+        "{start}{pass}explored {:.1}%{tree}, {best}, {seconds:.1} s",
+        100.0 * share
     )
 }
 

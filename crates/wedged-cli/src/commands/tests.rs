@@ -152,6 +152,8 @@ fn critical_progress_names_the_best_mu() {
         nodes: 0,
         bar: None,
         lower: None,
+        condensed: None,
+        programs: 0,
     };
     assert_eq!(
         critical_progress_text(p, 3.42),
@@ -182,6 +184,8 @@ fn critical_progress_names_the_best_mu() {
         nodes: 0,
         bar: None,
         lower: None,
+        condensed: None,
+        programs: 0,
     };
     assert_eq!(
         critical_progress_text(p, 1.0),
@@ -194,6 +198,38 @@ fn critical_progress_names_the_best_mu() {
     assert_eq!(
         critical_progress_text(p, 1.0),
         "explored 0.0%, no wedged configuration yet, mu* > 0.5, 1.0 s"
+    );
+    // The start's run on the condensed problem says so.
+    let p = CriticalProgress {
+        explored: 0.5,
+        upper: Some(1.8),
+        nodes: 40,
+        bar: Some(2.0),
+        lower: None,
+        condensed: Some(200),
+        programs: 0,
+    };
+    assert_eq!(
+        critical_progress_text(p, 2.0),
+        "start, condensed onto 200 nodes: pass at mu <= 2: explored 50.0% (40 nodes of about \
+         80), best mu 1.8, 2.0 s"
+    );
+    // The programs solved so far, which move while the root settles its bounds.
+    let p = CriticalProgress {
+        explored: 0.0,
+        nodes: 1,
+        condensed: None,
+        programs: 15468,
+        ..p
+    };
+    assert_eq!(
+        critical_progress_text(p, 9.0),
+        "pass at mu <= 2: explored 0.0% (1 nodes, 15468 linear programs), best mu 1.8, 9.0 s"
+    );
+    let p = CriticalProgress { nodes: 0, ..p };
+    assert_eq!(
+        critical_progress_text(p, 9.0),
+        "pass at mu <= 2: explored 0.0% (15468 linear programs), best mu 1.8, 9.0 s"
     );
 }
 

@@ -676,6 +676,8 @@ pub(super) fn run(
                 .saturating_sub(before.load(Ordering::Relaxed)),
             bar: bar.is_finite().then_some(bar),
             lower: proved(proved_bits.load(Ordering::Relaxed)),
+            condensed: None,
+            programs: search.lp.solves.load(Ordering::Relaxed),
         });
     };
     // A pass per bar; each shard's passes split their trees alike (see `crate::shard`: the

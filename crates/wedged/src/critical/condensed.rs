@@ -25,7 +25,7 @@ use std::time::{Duration, Instant};
 
 use nalgebra::DMatrix;
 
-use super::{critical_with_control, CriticalMethod, CriticalSettings};
+use super::{critical_with_control, CriticalMethod, CriticalProgress, CriticalSettings};
 use crate::problem::Problem;
 use crate::run::{EnumerateError, Stop};
 use crate::solution::ContactPattern;
@@ -81,13 +81,14 @@ pub(crate) fn applies(problem: &Problem, settings: &CriticalSettings) -> bool {
 pub(crate) fn started(
     problem: &Problem,
     settings: &CriticalSettings,
+    progress: &dyn Fn(CriticalProgress),
     cancel: &AtomicBool,
     began: Instant,
 ) -> Result<(Option<Condensed>, Option<CriticalSettings>), EnumerateError> {
     if !applies(problem, settings) {
         return Ok((None, None));
     }
-    let Some(condensed) = start(problem, settings, cancel)? else {
+    let Some(condensed) = start(problem, settings, progress, cancel)? else {
         return Ok((None, None));
     };
     let mut own = settings.clone();
@@ -107,10 +108,13 @@ pub(crate) fn given_limit(stop: Option<Stop>, given: Option<Duration>) -> Option
 
 /// The start of `problem` from its condensed problem, run with `settings` (no start; the time
 /// limit what is left of it) and `cancel`; `None` where that run found no wedge. A failure of
-/// the condensed run that is a bug is returned as such.
+/// the condensed run that is a bug is returned as such. That run's progress goes to `progress`
+/// marked with the condensed problem's nodes ([`CriticalProgress::condensed`]), so that a
+/// long start (about 11 s of 250 at m = 400) shows where it is.
 pub(crate) fn start(
     problem: &Problem,
     settings: &CriticalSettings,
+    progress: &dyn Fn(CriticalProgress),
     cancel: &AtomicBool,
 ) -> Result<Option<Condensed>, EnumerateError> {
     let began = Instant::now();
@@ -125,7 +129,15 @@ pub(crate) fn start(
     sub.start = None;
     // A test's injected fault is the run's own, not its start's.
     sub.fault = None;
-    let result = match critical_with_control(&small, &sub, &|_| {}, cancel) {
+    // The condensed run's own start reports the smaller problem, which it runs first.
+    let nodes = small.nodes();
+    let marked = |p: CriticalProgress| {
+        progress(CriticalProgress {
+            condensed: Some(p.condensed.unwrap_or(nodes)),
+            ..p
+        })
+    };
+    let result = match critical_with_control(&small, &sub, &marked, cancel) {
         Ok(result) => result,
         Err(e @ EnumerateError::Internal(_)) => return Err(e),
         Err(_) => return Ok(None),

@@ -51,6 +51,8 @@ pub(super) fn run(
             nodes: 0,
             bar: None,
             lower: None,
+            condensed: None,
+            programs: 0,
         });
         // (Above the ray methods' largest `mu` the sign patterns go on.)
         let (outcome, found) =
@@ -153,6 +155,8 @@ pub(super) fn run(
             nodes: 0,
             bar: None,
             lower: None,
+            condensed: None,
+            programs: 0,
         });
         // The leaf of the zero-gap nodes.
         let contact: Vec<bool> = q.iter().map(|&c| c != ContactPattern::Separated).collect();

@@ -38,6 +38,8 @@ pub(super) fn run(
             nodes: 0,
             bar: None,
             lower: None,
+            condensed: None,
+            programs: 0,
         });
         let contact: Vec<bool> = (0..m).map(|i| mask >> i & 1 == 1).collect();
         let nodes: Vec<usize> = (0..m).filter(|&i| contact[i]).collect();

@@ -388,6 +388,15 @@ pub struct CriticalProgress {
     /// `bnb`: the lower end proved by the passes finished so far (`mu*` lies above it), as an
     /// incomplete run reports it ([`Critical::lower`]).
     pub lower: Option<f64>,
+    /// `bnb` on a large problem: `Some(n)` while the run looks for its start on the problem
+    /// condensed onto `n` nodes (the other fields are then that run's, on the condensed
+    /// problem; the smallest where the condensed problem starts from its own), `None` in the
+    /// run proper.
+    pub condensed: Option<usize>,
+    /// `bnb`: the linear programs the simplex method has decided so far in the run (all its
+    /// passes; 0 for the other methods). It moves while a node takes long, as the root of a
+    /// large problem does while it settles its bounds (about a minute at m = 400).
+    pub programs: u64,
 }
 
 /// Computes the critical friction coefficient of a 2D or 3D problem. The problem's own `mu` is a
@@ -455,7 +464,7 @@ pub fn critical_with_control(
     let start = Instant::now();
     // A large problem with no start given starts from its condensed problem's answer.
     let given = settings.limits.time_limit;
-    let (condensed, own) = condensed::started(problem, settings, cancel, start)?;
+    let (condensed, own) = condensed::started(problem, settings, progress, cancel, start)?;
     let settings = own.as_ref().unwrap_or(settings);
     // Everything below runs on the problem in per-node units that bring K's diagonal near 1
     // (exactly equivalent, see Problem::equilibrated); the witness is mapped back at the end.

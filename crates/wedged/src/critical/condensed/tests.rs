@@ -120,3 +120,38 @@ fn it_applies_to_large_searches_with_no_start() {
         assert!(!applies(&large, &settings), "{settings:?}");
     }
 }
+
+/// The condensed run's progress reaches the caller marked with the condensed problem's nodes,
+/// all of it before the run proper's (unmarked) reports, which end the run. The run proper's
+/// programs grow to the count its summary gives.
+#[test]
+fn the_start_reports_its_progress_marked() {
+    let problem = plug2d_tri(40).unwrap().problem(2.0).unwrap();
+    let kept = keep(&problem).len();
+    let seen = std::sync::Mutex::new(Vec::new());
+    let programs = std::sync::Mutex::new(Vec::new());
+    let record = |p: CriticalProgress| {
+        seen.lock().unwrap().push(p.condensed);
+        if p.condensed.is_none() {
+            programs.lock().unwrap().push(p.programs);
+        }
+    };
+    let result = critical_with_control(
+        &problem,
+        &CriticalSettings::default(),
+        &record,
+        &AtomicBool::new(false),
+    )
+    .unwrap();
+    assert!(result.mu_critical.is_some());
+    let seen = seen.into_inner().unwrap();
+    let marked = seen.iter().take_while(|c| c.is_some()).count();
+    assert!(marked > 0, "{seen:?}");
+    assert!(seen[..marked].iter().all(|&c| c == Some(kept)), "{seen:?}");
+    assert!(marked < seen.len(), "{seen:?}");
+    assert!(seen[marked..].iter().all(Option::is_none), "{seen:?}");
+    let programs = programs.into_inner().unwrap();
+    assert!(programs.windows(2).all(|w| w[0] <= w[1]), "{programs:?}");
+    assert_eq!(programs.last(), Some(&result.info.simplex_solves));
+    assert!(result.info.simplex_solves > 0);
+}
