@@ -50,34 +50,15 @@ use crate::conic::cuts::Drive;
 use crate::conic::node_lp::{self as lp, LpCounters, Shape, Warm};
 use crate::conic::program::{Class, Decision, Formulation, Goal, Norm};
 use crate::patterns::Undecided;
-use crate::run::{Control, Fault, Stop};
+use crate::run::{Control, Stop};
 use crate::shard::{self, Explored, Shard, Walk};
 
 mod tuning;
+pub(super) use tuning::Hooks;
 use tuning::{
     bars, DIVE_NODES_PER_NODE, DIVE_SETTLED, PASS_SETTLED, RESTART, RETIGHTEN_DEPTH, ROUNDED,
     SETTLED_TIGHTEN_DEPTH, SETTLE_DEPTH, SETTLE_FROM, SETTLE_PARTS, STALE, TIGHTEN_DEPTH,
 };
-
-/// The test hooks of a run ([`crate::run::Fault`]).
-#[derive(Debug, Clone, Copy, Default)]
-pub(super) struct Hooks {
-    /// Stop as an interruption would after the first pass that finds no leaf at or below its
-    /// bar ([`crate::run::Fault::HaltAfterPass`]).
-    pub halt: bool,
-    /// Settle the root's bounds whatever the problem's size ([`crate::run::Fault::SettleRoot`]).
-    pub settle_always: bool,
-}
-
-impl Hooks {
-    /// The hooks a run's injected fault asks for.
-    pub(super) fn of(fault: Option<Fault>) -> Hooks {
-        Hooks {
-            halt: fault == Some(Fault::HaltAfterPass),
-            settle_always: fault == Some(Fault::SettleRoot),
-        }
-    }
-}
 
 /// Drive bounds and the level they hold at.
 struct Bounds {

@@ -1,6 +1,9 @@
 //! The settings of `critical`'s branch and bound ([`super`]), each with the measurements that
 //! chose it: how deep nodes tighten and settle their drive bounds, the first leaf's dive and
-//! rounding, when a pass starts over, and the passes' bars.
+//! rounding, when a pass starts over, and the passes' bars; and the tests' hooks that override
+//! them ([`Hooks`]).
+
+use crate::run::Fault;
 
 /// Search nodes down to this depth tighten the bounds of their undecided nodes' drives
 /// ([`crate::conic::cuts::tighten`]); deeper ones inherit them. In 3D the depth grows with the
@@ -122,4 +125,24 @@ pub(super) fn bars(mu: f64) -> Vec<f64> {
     }
     out.push(f64::INFINITY);
     out
+}
+
+/// The test hooks of a run ([`crate::run::Fault`]).
+#[derive(Debug, Clone, Copy, Default)]
+pub(in crate::critical) struct Hooks {
+    /// Stop as an interruption would after the first pass that finds no leaf at or below its
+    /// bar ([`crate::run::Fault::HaltAfterPass`]).
+    pub halt: bool,
+    /// Settle the root's bounds whatever the problem's size ([`crate::run::Fault::SettleRoot`]).
+    pub settle_always: bool,
+}
+
+impl Hooks {
+    /// The hooks a run's injected fault asks for.
+    pub(in crate::critical) fn of(fault: Option<Fault>) -> Hooks {
+        Hooks {
+            halt: fault == Some(Fault::HaltAfterPass),
+            settle_always: fault == Some(Fault::SettleRoot),
+        }
+    }
 }
