@@ -23,6 +23,6 @@ pub struct CriticalProgress {
     pub condensed: Option<usize>,
     /// `bnb`: the linear programs the simplex method has decided so far in the run (all its
     /// passes; 0 for the other methods). It moves while a node takes long, as the root of a
-    /// large problem does while it settles its bounds (about a minute at m = 400).
+    /// large problem does while it settles its bounds (minutes at m = 400).
     pub programs: u64,
 }
