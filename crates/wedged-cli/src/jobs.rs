@@ -494,18 +494,21 @@ pub fn progress_text(choice: &Choice, p: Progress, seconds: f64) -> String {
     }
 }
 
-/// `", about T left"` for a search that has explored `share` of its tree in `seconds`, at the
-/// same pace (the share counts each finished subtree at depth `d` as `2^-d` of the tree, so the
-/// estimate is rough while a few deep subtrees dominate); empty before 0.1% is explored.
-/// The nodes visited and the estimated size of the whole tree, `nodes / share` (see
-/// [`Progress::nodes`]), once a thousandth of it is explored.
+/// `" (N nodes of about T)"`: the nodes visited and the estimated size of the whole tree,
+/// `nodes / share` (see [`Progress::nodes`]), once a thousandth of it is explored; empty
+/// before any node.
 fn tree_size(nodes: u64, share: f64) -> String {
+    tree_counts(nodes, share).map_or(String::new(), |t| format!(" ({t})"))
+}
+
+/// What [`tree_size`] puts in its parentheses, `None` before any node.
+fn tree_counts(nodes: u64, share: f64) -> Option<String> {
     if nodes == 0 {
-        return String::new();
+        return None;
     }
-    let visited = format!(" ({nodes} nodes");
+    let visited = format!("{nodes} nodes");
     if !(1e-3..1.0).contains(&share) {
-        return format!("{visited})");
+        return Some(visited);
     }
     let total = nodes as f64 / share;
     let about = if total < 1e4 {
@@ -515,9 +518,12 @@ fn tree_size(nodes: u64, share: f64) -> String {
     } else {
         format!("{:.1e}", total)
     };
-    format!("{visited} of about {about})")
+    Some(format!("{visited} of about {about}"))
 }
 
+/// `", about T left"` for a search that has explored `share` of its tree in `seconds`, at the
+/// same pace (the share counts each finished subtree at depth `d` as `2^-d` of the tree, so the
+/// estimate is rough while a few deep subtrees dominate); empty before 0.1% is explored.
 fn time_left(share: f64, seconds: f64) -> String {
     if !(1e-3..1.0).contains(&share) {
         return String::new();
@@ -647,10 +653,15 @@ pub fn critical_progress_text(p: CriticalProgress, seconds: f64) -> String {
     };
     // The programs go inside the tree's parentheses: `(7065 nodes of about 19k, 15468 linear
     // programs)`.
-    let tree = match (tree_size(p.nodes, share), p.programs) {
-        (tree, 0) => tree,
-        (tree, n) if tree.is_empty() => format!(" ({n} linear programs)"),
-        (tree, n) => format!("{}, {n} linear programs)", tree.trim_end_matches(')')),
+    let programs = (p.programs > 0).then(|| format!("{} linear programs", p.programs));
+    let counts: Vec<String> = tree_counts(p.nodes, share)
+        .into_iter()
+        .chain(programs)
+        .collect();
+    let tree = if counts.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", counts.join(", "))
     };
     format!(
         "{start}{pass}explored {:.1}%{tree}, {best}, {seconds:.1} s",
