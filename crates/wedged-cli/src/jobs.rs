@@ -16,13 +16,14 @@ use wedged::patterns::{
     PatternSink, DEFAULT_PYRAMID_FACES,
 };
 use wedged::{
-    critical_with_control, enumerate_with_control, Critical, CriticalMethod, CriticalProgress,
-    CriticalSettings, EnumerateError, Limits, Method, Problem, Progress, Settings,
+    critical_with_control, enumerate_with_control, Critical, CriticalMethod, CriticalSettings,
+    EnumerateError, Limits, Method, Problem, Progress, Settings,
 };
 
 use wedged::certify::certify_enumeration;
 use wedged::fe::Model;
 
+use crate::progress::{critical_progress_text, progress_text, Pace};
 use crate::report::answer::{Answer, Certified, Choice};
 
 /// Why a run failed; decides the exit code.
@@ -429,7 +430,11 @@ pub fn run_library(
     show: Show,
     sink: Option<PatternSink>,
 ) -> Result<Answer, Failure> {
-    let text = |p: Progress, seconds: f64| progress_text(choice, p, seconds);
+    let pace = Pace::default();
+    let text = |p: Progress, seconds: f64| {
+        let still = pace.still(p.done as f64 / p.total.max(1) as f64, seconds);
+        progress_text(choice, p, seconds, still)
+    };
     let result = with_line(show, text, |progress| match choice {
         Choice::Rays(settings) => {
             enumerate_with_control(problem, settings, progress, cancel).map(Answer::Rays)
@@ -450,93 +455,6 @@ pub fn run_library(
         }
         e @ EnumerateError::Internal(_) => Failure::Internal(format!("{source}: {e}")),
     })
-}
-
-/// The live progress line (without its carriage return).
-pub fn progress_text(choice: &Choice, p: Progress, seconds: f64) -> String {
-    let share = p.done as f64 / p.total.max(1) as f64;
-    let count = |n: usize, one: &str, many: &str| {
-        if n == 1 {
-            format!("1 {one}")
-        } else {
-            format!("{n} {many}")
-        }
-    };
-    match choice {
-        Choice::Patterns(PatternSettings {
-            method: PatternMethod::Bnb | PatternMethod::Search,
-            ..
-        }) => format!(
-            "explored {:.1}% of the search tree{}, {} found, {seconds:.1} s{}",
-            100.0 * share,
-            tree_size(p.nodes, share),
-            count(p.rays, "pattern", "patterns"),
-            time_left(share, seconds)
-        ),
-        Choice::Rays(Settings {
-            method: Method::Search,
-            ..
-        }) => format!(
-            "explored {:.1}% of the search tree{}, {} found, {seconds:.1} s{}",
-            100.0 * share,
-            tree_size(p.nodes, share),
-            count(p.rays, "contact set", "contact sets"),
-            time_left(share, seconds)
-        ),
-        Choice::Patterns(_) => format!(
-            "pyramid approximation, node {}/{}: {} rays held, {seconds:.1} s",
-            p.done, p.total, p.rays
-        ),
-        Choice::Rays(_) => format!(
-            "node {}/{}: {} rays held, {seconds:.1} s",
-            p.done, p.total, p.rays
-        ),
-    }
-}
-
-/// `" (N nodes of about T)"`: the nodes visited and the estimated size of the whole tree,
-/// `nodes / share` (see [`Progress::nodes`]), once a thousandth of it is explored; empty
-/// before any node.
-fn tree_size(nodes: u64, share: f64) -> String {
-    tree_counts(nodes, share).map_or(String::new(), |t| format!(" ({t})"))
-}
-
-/// What [`tree_size`] puts in its parentheses, `None` before any node.
-fn tree_counts(nodes: u64, share: f64) -> Option<String> {
-    if nodes == 0 {
-        return None;
-    }
-    let visited = format!("{nodes} nodes");
-    if !(1e-3..1.0).contains(&share) {
-        return Some(visited);
-    }
-    let total = nodes as f64 / share;
-    let about = if total < 1e4 {
-        format!("{total:.0}")
-    } else if total < 1e7 {
-        format!("{:.0}k", total / 1e3)
-    } else {
-        format!("{:.1e}", total)
-    };
-    Some(format!("{visited} of about {about}"))
-}
-
-/// `", about T left"` for a search that has explored `share` of its tree in `seconds`, at the
-/// same pace (the share counts each finished subtree at depth `d` as `2^-d` of the tree, so the
-/// estimate is rough while a few deep subtrees dominate); empty before 0.1% is explored.
-fn time_left(share: f64, seconds: f64) -> String {
-    if !(1e-3..1.0).contains(&share) {
-        return String::new();
-    }
-    let left = seconds * (1.0 - share) / share;
-    let text = if left < 90.0 {
-        format!("{left:.0} s")
-    } else if left < 90.0 * 60.0 {
-        format!("{:.0} min", left / 60.0)
-    } else {
-        format!("{:.1} h", left / 3600.0)
-    };
-    format!(", about {text} left")
 }
 
 /// The test hook `WEDGED_INJECT_FAULT` (see `wedged::Fault`): tests set it to see an internal
@@ -630,43 +548,6 @@ pub fn run_critical_library(
         e @ EnumerateError::UnsupportedDim(_) => Failure::Input(format!("{source}: {e}")),
         e @ EnumerateError::Internal(_) => Failure::Internal(format!("{source}: {e}")),
     })
-}
-
-/// The live progress line of `critical` and `sweep` (without its carriage return).
-pub fn critical_progress_text(p: CriticalProgress, seconds: f64) -> String {
-    let sig4 = crate::report::sig4;
-    let best = match (p.lower, p.upper) {
-        (Some(lo), Some(up)) => format!("mu* in ({}, {}]", sig4(lo), sig4(up)),
-        (None, Some(up)) => format!("best mu {}", sig4(up)),
-        (Some(lo), None) => format!("no wedged configuration yet, mu* > {}", sig4(lo)),
-        (None, None) => "no wedged configuration yet".to_string(),
-    };
-    let share = p.explored.clamp(0.0, 1.0);
-    let pass = match p.bar {
-        Some(bar) => format!("pass at mu <= {}: ", crate::report::sig4(bar)),
-        None => String::new(),
-    };
-    // The start's run on the condensed problem: its numbers are that problem's, not yet mu*'s.
-    let start = match p.condensed {
-        Some(n) => format!("start, condensed onto {n} nodes: "),
-        None => String::new(),
-    };
-    // The programs go inside the tree's parentheses: `(7065 nodes of about 19k, 15468 linear
-    // programs)`.
-    let programs = (p.programs > 0).then(|| format!("{} linear programs", p.programs));
-    let counts: Vec<String> = tree_counts(p.nodes, share)
-        .into_iter()
-        .chain(programs)
-        .collect();
-    let tree = if counts.is_empty() {
-        String::new()
-    } else {
-        format!(" ({})", counts.join(", "))
-    };
-    format!(
-        "{start}{pass}explored {:.1}%{tree}, {best}, {seconds:.1} s",
-        100.0 * share
-    )
 }
 
 /// A ray [`Method`] or a [`PatternMethod`] as a command-line value, named by their `name()`.

@@ -8,11 +8,12 @@
 //! these return an error, one line that names the source, and never panic.
 //!
 //! Besides the readers: [`jobs`] (a run made from options, as the command and the Python
-//! bindings both make it), [`report`] (the summaries, the JSON and the output files) and
+//! bindings both make it), [`progress`] (its live progress lines), [`report`] (the summaries, the JSON and the output files) and
 //! [`study`] (the grid, CSV and extrapolation of `wedged study`).
 
 pub mod input;
 pub mod jobs;
+pub mod progress;
 pub mod report;
 pub mod study;
 

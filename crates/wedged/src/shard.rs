@@ -207,6 +207,15 @@ impl Explored {
         (self.explored.load(Ordering::Relaxed) as f64 / share).min(1.0)
     }
 
+    /// [`Explored::fraction`] in thousandths, rounded down: 1000 only once the whole share is
+    /// explored, so that a progress line never shows 100% while the search still runs.
+    /// (In integers: the units are `2^-62` of the tree, finer than an `f64` can tell from 1.)
+    pub(crate) fn permille(&self) -> usize {
+        let share = u128::from(self.share.load(Ordering::Relaxed).max(1));
+        let explored = u128::from(self.explored.load(Ordering::Relaxed));
+        (explored * 1000 / share).min(1000) as usize
+    }
+
     /// Starts over (a new pass over the tree).
     pub(crate) fn reset(&self) {
         self.explored.store(0, Ordering::Relaxed);
@@ -459,6 +468,22 @@ fn levels(n: usize) -> usize {
 mod tests {
     use super::*;
     use std::sync::Mutex;
+
+    /// The thousandths explored reach 1000 only with the last unit of the tree, although an
+    /// `f64` rounds `1 - 2^-62` to 1.
+    #[test]
+    fn the_permille_is_1000_only_when_all_is_explored() {
+        let explored = Explored::new();
+        let whole = 1u64 << FRACTION_BITS;
+        for (units, permille) in [(0, 0), (whole / 2, 500), (whole - 1, 999), (whole, 1000)] {
+            explored.explored.store(units, Ordering::Relaxed);
+            assert_eq!(explored.permille(), permille, "{units} units");
+        }
+        // A shard's share: half the tree, a quarter of it explored.
+        explored.share.store(whole / 2, Ordering::Relaxed);
+        explored.explored.store(whole / 8, Ordering::Relaxed);
+        assert_eq!(explored.permille(), 250);
+    }
 
     /// A tree of depth-varying width: node `(id, depth)` has children until a pseudo-random
     /// depth; it records the leaves it reaches.

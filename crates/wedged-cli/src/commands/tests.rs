@@ -6,8 +6,8 @@ use clap::{CommandFactory, ValueEnum};
 use std::time::Duration;
 use wedged::patterns::{PatternMethod, PatternSettings};
 use wedged::{CriticalProgress, Method, Problem, Progress, Settings, Stop};
-use wedged_cli::jobs::{critical_progress_text, progress_text};
 use wedged_cli::one_line;
+use wedged_cli::progress::{critical_progress_text, progress_text, Pace};
 
 #[test]
 fn sizes_parse() {
@@ -55,12 +55,12 @@ fn progress_lines_name_what_they_count() {
     };
     let bnb = Choice::Patterns(PatternSettings::default());
     assert_eq!(
-        progress_text(&bnb, p, 3.42),
+        progress_text(&bnb, p, 3.42, 0.0),
         "explored 37.2% of the search tree (7065 nodes of about 19k), 5 patterns found, \
          3.4 s, about 6 s left"
     );
     let p = Progress { nodes: 70650, ..p };
-    assert!(progress_text(&bnb, p, 3.42).contains("(70650 nodes of about 190k)"));
+    assert!(progress_text(&bnb, p, 3.42, 0.0).contains("(70650 nodes of about 190k)"));
     let search = Choice::Rays(Settings {
         method: Method::Search,
         ..Settings::default()
@@ -74,7 +74,8 @@ fn progress_lines_name_what_they_count() {
                 rays: 1,
                 nodes: 20,
             },
-            360.0
+            360.0,
+            0.0
         ),
         "explored 0.1% of the search tree (20 nodes of about 20k), 1 contact set found, \
          360.0 s, about 99.9 h left"
@@ -88,7 +89,8 @@ fn progress_lines_name_what_they_count() {
                 rays: 0,
                 nodes: 3,
             },
-            2.0
+            2.0,
+            0.0
         ),
         "explored 0.0% of the search tree (3 nodes), 0 contact sets found, 2.0 s"
     );
@@ -100,9 +102,64 @@ fn progress_lines_name_what_they_count() {
         nodes: 0,
     };
     assert_eq!(
-        progress_text(&rays, p, 1.0),
+        progress_text(&rays, p, 1.0, 0.0),
         "node 3/12: 40 rays held, 1.0 s"
     );
+}
+
+/// The 2D plug at m = 100: the share stood at 95.7% from 26.6 s to 31.4 s, and then at 97.7%,
+/// while the run took 60 s. The line's "about 1 s left" is refuted once the share stands still
+/// for longer, and it never says 100% while the search runs.
+#[test]
+fn a_refuted_time_left_is_not_repeated() {
+    let search = Choice::Rays(Settings {
+        method: Method::Search,
+        ..Settings::default()
+    });
+    let pace = Pace::default();
+    let line = |done: usize, seconds: f64| {
+        let p = Progress {
+            done,
+            total: 1000,
+            rays: 134,
+            nodes: 250795,
+        };
+        progress_text(
+            &search,
+            p,
+            seconds,
+            pace.still(done as f64 / 1000.0, seconds),
+        )
+    };
+    assert!(line(957, 26.6).ends_with("26.6 s, about 1 s left"));
+    assert!(line(957, 27.4).ends_with("27.4 s, about 1 s left"));
+    assert!(line(957, 28.2).ends_with("28.2 s, time left unknown"));
+    assert!(line(957, 31.4).ends_with("31.4 s, time left unknown"));
+    // The share moves: a new estimate, until it too has stood still too long.
+    assert!(line(977, 34.6).ends_with("34.6 s, under 1 s left"));
+    assert!(line(977, 36.2).ends_with("36.2 s, time left unknown"));
+    // 99.96% is not shown as 100.0%.
+    let p = Progress {
+        done: 9996,
+        total: 10000,
+        rays: 645,
+        nodes: 436792,
+    };
+    let text = progress_text(&search, p, 47.5, 0.0);
+    assert!(
+        text.starts_with("explored 99.9% of the search tree"),
+        "{text}"
+    );
+    let critical = CriticalProgress {
+        explored: 0.99996,
+        upper: None,
+        nodes: 0,
+        bar: None,
+        lower: None,
+        condensed: None,
+        programs: 0,
+    };
+    assert!(critical_progress_text(critical, 3.0).starts_with("explored 99.9%,"));
 }
 
 #[test]

@@ -451,7 +451,7 @@ pub(super) fn run(
     let walk = Walk::new(&search, &explored);
     let report = || {
         progress(Progress {
-            done: (explored.fraction() * 1000.0).round() as usize,
+            done: explored.permille(),
             total: 1000,
             rays: search.found.lock().map_or(0, |f| f.len()),
             nodes: search.visited.load(Ordering::Relaxed),

@@ -137,7 +137,7 @@ pub(crate) fn search(
     let walk = Walk::new(&search, &explored);
     let report = || {
         progress(Progress {
-            done: (explored.fraction() * 1000.0).round() as usize,
+            done: explored.permille(),
             total: 1000,
             rays: search.leaves_found(),
             nodes: search.nodes.load(Ordering::Relaxed),
