@@ -152,12 +152,7 @@ fn a_refuted_time_left_is_not_repeated() {
     );
     let critical = CriticalProgress {
         explored: 0.99996,
-        upper: None,
-        nodes: 0,
-        bar: None,
-        lower: None,
-        condensed: None,
-        programs: 0,
+        ..CriticalProgress::default()
     };
     assert!(critical_progress_text(critical, 3.0).starts_with("explored 99.9%,"));
 }
@@ -235,15 +230,7 @@ fn critical_progress_names_the_best_mu() {
         critical_progress_text(p, 3.42),
         "pass at mu <= 2.5: explored 37.2% (7065 nodes of about 19k), mu* in (1.2, 1.235], 3.4 s"
     );
-    let p = CriticalProgress {
-        explored: 0.0,
-        upper: None,
-        nodes: 0,
-        bar: None,
-        lower: None,
-        condensed: None,
-        programs: 0,
-    };
+    let p = CriticalProgress::default();
     assert_eq!(
         critical_progress_text(p, 1.0),
         "explored 0.0%, no wedged configuration yet, 1.0 s"

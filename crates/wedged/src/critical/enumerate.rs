@@ -45,15 +45,7 @@ pub(super) fn run(
             time_limit: limits.time_limit.map(|t| t.saturating_sub(start.elapsed())),
             ..limits
         };
-        progress(CriticalProgress {
-            explored: 0.0,
-            upper: None,
-            nodes: 0,
-            bar: None,
-            lower: None,
-            condensed: None,
-            programs: 0,
-        });
+        progress(CriticalProgress::default());
         // (Above the ray methods' largest `mu` the sign patterns go on.)
         let (outcome, found) =
             if problem.dim() == 2 && !problem.is_floating() && mu <= crate::rays::RAYS_MU_MAX {
@@ -152,11 +144,7 @@ pub(super) fn run(
         progress(CriticalProgress {
             explored: k as f64 / total as f64,
             upper: found.best.as_ref().map(|b| b.theta),
-            nodes: 0,
-            bar: None,
-            lower: None,
-            condensed: None,
-            programs: 0,
+            ..CriticalProgress::default()
         });
         // The leaf of the zero-gap nodes.
         let contact: Vec<bool> = q.iter().map(|&c| c != ContactPattern::Separated).collect();

@@ -35,11 +35,7 @@ pub(super) fn run(
         progress(CriticalProgress {
             explored: (mask - 1) as f64 / total as f64,
             upper: found.best.as_ref().map(|b| b.theta),
-            nodes: 0,
-            bar: None,
-            lower: None,
-            condensed: None,
-            programs: 0,
+            ..CriticalProgress::default()
         });
         let contact: Vec<bool> = (0..m).map(|i| mask >> i & 1 == 1).collect();
         let nodes: Vec<usize> = (0..m).filter(|&i| contact[i]).collect();

@@ -1,7 +1,7 @@
 //! What a running computation of `mu*` reports as it goes ([`CriticalProgress`]).
 
-/// Where a running search is.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Where a running search is (`Default`: nothing explored, nothing found yet).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct CriticalProgress {
     /// The explored fraction of the search, in `[0, 1]` (of the present pass, for `bnb`).
     pub explored: f64,
