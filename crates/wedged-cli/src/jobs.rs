@@ -23,7 +23,7 @@ use wedged::{
 use wedged::certify::certify_enumeration;
 use wedged::fe::Model;
 
-use crate::progress::{critical_progress_text, progress_text, Pace};
+use crate::progress::{critical_progress_text, progress_text, share, Pace};
 use crate::report::answer::{Answer, Certified, Choice};
 
 /// Why a run failed; decides the exit code.
@@ -432,7 +432,7 @@ pub fn run_library(
 ) -> Result<Answer, Failure> {
     let pace = Pace::default();
     let text = |p: Progress, seconds: f64| {
-        let still = pace.still(p.done as f64 / p.total.max(1) as f64, seconds);
+        let still = pace.still(share(&p), seconds);
         progress_text(choice, p, seconds, still)
     };
     let result = with_line(show, text, |progress| match choice {

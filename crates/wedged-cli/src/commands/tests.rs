@@ -108,7 +108,7 @@ fn progress_lines_name_what_they_count() {
 }
 
 /// The 2D plug at m = 100: the share stood at 95.7% from 26.6 s to 31.4 s, and then at 97.7%,
-/// while the run took 60 s. The line's "about 1 s left" is refuted once the share stands still
+/// while the run took 62 s. The line's "about 1 s left" is refuted once the share stands still
 /// for longer, and it never says 100% while the search runs.
 #[test]
 fn a_refuted_time_left_is_not_repeated() {
