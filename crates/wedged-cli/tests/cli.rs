@@ -198,6 +198,7 @@ fn check_report(report: &Value, k: &DMatrix<f64>) {
             "lp_fallbacks",
             "mirrored",
             "images",
+            "mapped",
             "groups",
             "seconds",
             "peak_rss_bytes",

@@ -425,13 +425,22 @@ impl Problem {
     /// a `D` under which some node has more than one candidate, or the whole of `K` does not
     /// match, gives none.
     pub fn symmetries(&self) -> Vec<Vec<usize>> {
+        self.symmetries_with_signs()
+            .into_iter()
+            .map(|(s, _)| s)
+            .collect()
+    }
+
+    /// [`Problem::symmetries`] with each one's sign matrix `D` (its diagonal, `dim` entries):
+    /// the image of a solution puts `D` times node `i`'s components at node `s(i)`.
+    pub fn symmetries_with_signs(&self) -> Vec<(Vec<usize>, Vec<f64>)> {
         let signs: &[&[f64]] = match self.dim {
             2 => &[&[1.0, -1.0]],
             _ => &[&[1.0, 1.0, -1.0], &[1.0, -1.0, 1.0], &[1.0, -1.0, -1.0]],
         };
         signs
             .iter()
-            .filter_map(|sign| self.symmetry(sign))
+            .filter_map(|sign| Some((self.symmetry(sign)?, sign.to_vec())))
             .collect()
     }
 

@@ -205,3 +205,95 @@ fn orbital_branching_keeps_the_patterns() {
     assert!(mirrored >= 20, "{mirrored} mirrored branchings");
     assert!(images >= 20, "{images} images made");
 }
+
+/// The group the involutions `gens` (with their frames' signs) generate, identity included,
+/// written here apart from the library's (`patterns/orbits.rs`).
+fn closure(gens: &[(Vec<usize>, Vec<f64>)], m: usize, d: usize) -> Vec<(Vec<usize>, Vec<f64>)> {
+    let mut all = vec![((0..m).collect::<Vec<usize>>(), vec![1.0; d])];
+    let mut i = 0;
+    while i < all.len() {
+        for (g, sg) in gens {
+            let p: Vec<usize> = all[i].0.iter().map(|&j| g[j]).collect();
+            let s: Vec<f64> = all[i].1.iter().zip(sg).map(|(a, b)| a * b).collect();
+            if !all.contains(&(p.clone(), s.clone())) {
+                all.push((p, s));
+            }
+        }
+        i += 1;
+    }
+    all
+}
+
+/// In 3D the patterns of one orbit of the symmetries share one witness: each pattern's
+/// reactions are an image of the reactions of the least pattern of its orbit, to round-off
+/// (the finishing step solves that one's cone program and maps it; the reported reactions are
+/// normalised again after it, by a sum taken in another order; a cone program of its own
+/// would agree only to the solver's accuracy), and a certified run checks the mapped
+/// witnesses exactly. (`orbital_branching_keeps_the_patterns` checks that the leaves decided
+/// as images give the brute force's patterns.)
+#[test]
+fn an_orbit_shares_its_witness() {
+    use wedged::ContactPattern;
+    let (mut mapped, mut certified, mut counted) = (0, 0, 0);
+    for seed in 0..12u64 {
+        let m = 2 * (2 + (seed % 3) as usize);
+        let base = wedged::examples::random_spd_problem_dim(3, m, 2.0, 900 + seed);
+        let second: Option<&[f64]> = (seed % 2 == 0).then_some(&[1.0, -1.0, 1.0]);
+        let (k, _) = symmetrised(base.stiffness(), 3, &[1.0, 1.0, -1.0], second);
+        let p = Problem::new(3, k, 2.0).unwrap();
+        let group = closure(&p.symmetries_with_signs(), m, 3);
+        assert!(group.len() >= 2, "seed {seed}: {} elements", group.len());
+        let settings = PatternSettings {
+            certify: seed < 3,
+            ..PatternSettings::default()
+        };
+        let run = enumerate_patterns(&p, &settings).unwrap();
+        assert!(
+            !matches!(run.outcome, Outcome::Incomplete(_)),
+            "seed {seed}"
+        );
+        // Leaves decided as images (not in a certified run) and witnesses mapped.
+        counted += run.info.mapped;
+        if let Some(c) = &run.certificate {
+            assert!(c.certified && c.witnesses_failed == 0, "seed {seed}: {c:?}");
+            certified += c.witnesses_checked;
+        }
+        let image = |g: &(Vec<usize>, Vec<f64>), q: &[ContactPattern]| {
+            let mut out = q.to_vec();
+            q.iter().enumerate().for_each(|(i, &c)| out[g.0[i]] = c);
+            out
+        };
+        let by_pattern = |q: &[ContactPattern]| {
+            run.patterns
+                .iter()
+                .find(|x| x.pattern == q)
+                .expect("the orbit of a maximal pattern is maximal")
+        };
+        for x in &run.patterns {
+            let least = group.iter().map(|g| image(g, &x.pattern)).min().unwrap();
+            if least == x.pattern {
+                continue;
+            }
+            let r = &by_pattern(&least).r;
+            let shared = group.iter().any(|g| {
+                image(g, &least) == x.pattern
+                    && (0..m).all(|i| {
+                        (0..3).all(|c| (x.r[3 * g.0[i] + c] - g.1[c] * r[3 * i + c]).abs() < 1e-13)
+                    })
+            });
+            assert!(
+                shared,
+                "seed {seed}: {:?} has a witness of its own",
+                x.pattern
+            );
+            mapped += 1;
+        }
+    }
+    println!("{mapped} witnesses mapped, {certified} certified, {counted} counted as mapped");
+    assert!(
+        counted as usize > mapped,
+        "{counted} counted, {mapped} witnesses mapped"
+    );
+    assert!(mapped >= 20, "{mapped} witnesses mapped");
+    assert!(certified >= 5, "{certified} witnesses certified");
+}

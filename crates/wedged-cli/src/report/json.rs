@@ -297,6 +297,7 @@ pub struct PatternInfoJson {
     pub lp_fallbacks: u64,
     pub mirrored: u64,
     pub images: u64,
+    pub mapped: u64,
     pub groups: u64,
     pub seconds: f64,
     /// The process's peak resident memory (see [`peak_rss_bytes`]).
@@ -327,6 +328,7 @@ impl PatternInfoJson {
             lp_fallbacks,
             mirrored,
             images,
+            mapped,
             groups,
             seconds,
         } = *info;
@@ -353,6 +355,7 @@ impl PatternInfoJson {
             lp_fallbacks,
             mirrored,
             images,
+            mapped,
             groups,
             seconds,
             peak_rss_bytes: peak_rss_bytes(),
@@ -759,8 +762,8 @@ mod tests {
         assert_eq!(info["method"], "pyramid");
         assert_eq!(info["pyramid_faces"], 12);
         assert_eq!(info["socps"], 7);
-        // method, pyramid_faces, the 22 fields of PatternInfo and peak_rss_bytes.
-        assert_eq!(info.len(), 25, "{info:?}");
+        // method, pyramid_faces, the 23 fields of PatternInfo and peak_rss_bytes.
+        assert_eq!(info.len(), 26, "{info:?}");
     }
 
     #[test]

@@ -168,6 +168,7 @@ pub(super) fn add_info(sum: &mut PatternInfo, part: &PatternInfo) {
         lp_fallbacks,
         mirrored,
         images,
+        mapped,
         groups: _,
         seconds,
     } = *part;
@@ -191,5 +192,6 @@ pub(super) fn add_info(sum: &mut PatternInfo, part: &PatternInfo) {
     sum.lp_fallbacks += lp_fallbacks;
     sum.mirrored += mirrored;
     sum.images += images;
+    sum.mapped += mapped;
     sum.seconds = sum.seconds.max(seconds);
 }

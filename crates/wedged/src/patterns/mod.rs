@@ -35,7 +35,6 @@ mod orbits;
 mod pyramid;
 mod search;
 
-use rayon::prelude::*;
 use std::collections::HashMap;
 use std::fmt;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -206,6 +205,9 @@ pub struct PatternInfo {
     /// skipped.
     pub mirrored: u64,
     pub images: u64,
+    /// 3D: leaves decided and witnesses made as images of their orbits' least pattern's,
+    /// instead of by cone programs of their own (`patterns/orbits.rs`).
+    pub mapped: u64,
     /// Groups of contact nodes that `K` does not couple, each searched on its own, the pieces
     /// their products (`patterns/groups.rs`); 0 when the nodes are one group.
     pub groups: u64,
@@ -360,13 +362,14 @@ fn run(
     // and checked there: the reported pattern and the scaled one (for the certificate).
     let witness_lp = simplex_witness(&form).then(|| ContactLp::new(&form));
     // `known`: the pattern's witness, when the search made it already.
+    let in_units = |p: Pattern| {
+        let (u, r) = original.unscale(&scales, &p.u, &p.r);
+        crate::solution::check_solution(original, original.mu(), &u, &r)
+            .map_err(|why| format!("the witness in the problem's own units: {why}"))?;
+        Ok((Pattern { u, r, ..p.clone() }, p))
+    };
     let finish_checked = |q: &[ContactPattern], known: Option<&Support>| {
-        finish(&form, witness_lp.as_ref(), q, known).and_then(|p| {
-            let (u, r) = original.unscale(&scales, &p.u, &p.r);
-            crate::solution::check_solution(original, original.mu(), &u, &r)
-                .map_err(|why| format!("the witness in the problem's own units: {why}"))?;
-            Ok((Pattern { u, r, ..p.clone() }, p))
-        })
+        finish(&form, witness_lp.as_ref(), q, known).and_then(in_units)
     };
     let failed = |q: &[ContactPattern], reason: String| Undecided {
         contact: q.iter().map(|&c| c == ContactPattern::Contact).collect(),
@@ -431,19 +434,35 @@ fn run(
     let mut undecided = found.undecided;
     undecided.extend(unfinished.into_inner().unwrap_or_default());
     // Each witness is one cone program: they run in parallel (in order; one at a time with
-    // --certify, whose refutations are recorded as they are made).
+    // --certify, whose refutations are recorded as they are made). In 3D (a clamped body) the
+    // patterns of one orbit of the problem's symmetries share the witness of the orbit's least
+    // pattern, mapped (`orbits::Group`): one cone program an orbit.
+    let group = orbits::Group::of(&form);
     let pieces = maximal(found.patterns);
-    let finished: Vec<_> = if settings.certify {
-        pieces
-            .iter()
-            .map(|q| finish_checked(q, known.get(q)))
-            .collect()
-    } else {
-        pieces
-            .par_iter()
-            .map(|q| finish_checked(q, known.get(q)))
-            .collect()
+    let mapped = |q: &[ContactPattern], k: usize, (_, least): &(Pattern, Pattern)| {
+        let (r, status) = (
+            group.map_point(k, &least.r),
+            group.map_nodes(k, &least.status),
+        );
+        let u = form.problem.displacement(&r);
+        check_witness(&form, q, &status, &u, &r)?;
+        let pattern = q.to_vec();
+        in_units(Pattern {
+            pattern,
+            status,
+            u,
+            r,
+            ..least.clone()
+        })
     };
+    let (finished, mapped) = orbits::finish_by_orbits(
+        &group,
+        &pieces,
+        settings.certify,
+        |q| finish_checked(q, known.get(q)),
+        mapped,
+    );
+    info.mapped += mapped;
     for (q, finished) in pieces.iter().zip(finished) {
         match finished {
             Ok((p, s)) => {

@@ -189,9 +189,15 @@ pub(super) fn pattern_info(
                     plural(info.images as usize, "pattern", "patterns")
                 ),
             };
+            // Leaves and witnesses taken from their orbits' least pattern (3D).
+            let mapped = match info.mapped {
+                0 => String::new(),
+                n => format!("; {n} leaves and witnesses mapped from their orbits' least"),
+            };
             format!(
                 "branch and bound: {} visited, {} pruned (infeasible) + {} pruned (a contact node \
-                 could not be pressed), {} reached of 2^{m} = {}; {fraction}{programs}{mirrored}",
+                 could not be pressed), {} reached of 2^{m} = {}; {fraction}{programs}{mirrored}\
+                 {mapped}",
                 plural(info.nodes_visited as usize, "node", "nodes"),
                 info.pruned_infeasible,
                 info.pruned_unpressed,
