@@ -42,7 +42,7 @@ use std::sync::Arc;
 
 use super::cuts::{self, Drive};
 use super::program::{Class, Decision, Formulation, Goal, Norm};
-use super::simplex::{self, Answer, Basis, Lp};
+use super::simplex::{self, Answer, Basis, Lp, Reduced};
 
 /// The bound on the total pressure of a program normalised by [`Norm::Pressed`] (each contact
 /// node `r_n_i >= 1`): such a program asks for a solution that presses every contact node with
@@ -131,7 +131,11 @@ struct Kept {
     mu: u64,
     drive: Option<Arc<Drive>>,
     a: Arc<Vec<f64>>,
+    reduced: Option<Arc<Reduced>>,
 }
+
+/// A shape's matrix and, in 3D, its factors ([`Reduced`]).
+type Matrix = (Arc<Vec<f64>>, Option<Arc<Reduced>>);
 
 /// At most this many shapes' matrices are kept per thread (a search uses a few at a time: its
 /// current drive bounds and their parent's, `critical`'s levels).
@@ -145,7 +149,7 @@ thread_local! {
 impl LpCounters {
     /// The matrix of `shape`'s programs for `form` (the one formulation that these counters
     /// serve), built when this thread does not keep it.
-    fn matrix(&self, form: &Formulation, shape: Shape) -> Arc<Vec<f64>> {
+    fn matrix(&self, form: &Formulation, shape: Shape) -> Matrix {
         let (id, mu) = (self.id.0, shape.mu.to_bits());
         let same = |k: &Kept| {
             k.id == id
@@ -160,14 +164,15 @@ impl LpCounters {
             let mut shapes = shapes.borrow_mut();
             let at = shapes.iter().position(same)?;
             let kept = shapes.remove(at);
-            let a = Arc::clone(&kept.a);
+            let a = (Arc::clone(&kept.a), kept.reduced.clone());
             shapes.insert(0, kept);
             Some(a)
         });
         if let Some(a) = kept {
             return a;
         }
-        let a = Arc::new(matrix(form, shape));
+        let (a, reduced) = matrix(form, shape);
+        let (a, reduced) = (Arc::new(a), reduced.map(Arc::new));
         SHAPES.with(|shapes| {
             let mut shapes = shapes.borrow_mut();
             shapes.insert(
@@ -177,11 +182,12 @@ impl LpCounters {
                     mu,
                     drive: shape.drive.cloned(),
                     a: Arc::clone(&a),
+                    reduced: reduced.clone(),
                 },
             );
             shapes.truncate(KEEP_SHAPES);
         });
-        a
+        (a, reduced)
     }
 }
 
@@ -239,17 +245,23 @@ fn node_columns(w: &[f64], mu: f64, out: &mut [f64]) {
 }
 /// The matrix of the programs of `shape` (`3m + 1 + k` rows of the columns, row-major; see
 /// the module docs): the same for every node of a search that has the same `mu` and drive
-/// bounds, so built once and kept by each thread that uses it ([`LpCounters::matrix`]).
-fn matrix(form: &Formulation, shape: Shape) -> Vec<f64> {
+/// bounds, so built once and kept by each thread that uses it ([`LpCounters::matrix`]). In
+/// 3D also its factors ([`Reduced`]: the rows over the reaction components and amplitudes,
+/// and [`put_row`]'s map of them onto the columns), through which the simplex method takes
+/// its row products: a row of `3m + k` numbers and two terms a column instead of `SIDES m`.
+fn matrix(form: &Formulation, shape: Shape) -> (Vec<f64>, Option<Reduced>) {
     let m = form.m;
     let d = form.dim;
     let reactions = d * m;
     let n = per_node(d) * m + form.amplitudes();
     let rows = 3 * m + 1 + form.modes;
     let mu = shape.mu;
+    let width = form.width();
     let mut a = vec![0.0; n * rows];
+    let mut small = vec![0.0; width * rows];
     let mut set_row = |k: usize, row: &[f64]| {
         put_row(form, mu, row, &mut a[k * n..(k + 1) * n]);
+        small[k * width..k * width + row.len()].copy_from_slice(row);
     };
     let mut unit = vec![0.0; reactions];
     for i in 0..m {
@@ -272,7 +284,36 @@ fn matrix(form: &Formulation, shape: Shape) -> Vec<f64> {
             }
         }
     }
-    a
+    let reduced = (d == 3).then(|| {
+        let amplitude: Vec<Option<usize>> = (0..form.modes).map(|j| form.amplitude_of(j)).collect();
+        Reduced {
+            width,
+            a: small,
+            expand: Box::new(move |w: &[f64], out: &mut [f64]| {
+                let nodes = w[..reactions]
+                    .chunks_exact(3)
+                    .zip(out.chunks_exact_mut(SIDES));
+                if mu.is_finite() {
+                    // `node_columns`'s terms, inlined: this runs at every pivot.
+                    let corners = corners();
+                    for (w, o) in nodes {
+                        let (t1, t2) = (mu * w[1], mu * w[2]);
+                        for (o, &(c, s)) in o.iter_mut().zip(corners.iter()) {
+                            *o = w[0] + c * t1 + s * t2;
+                        }
+                    }
+                } else {
+                    nodes.for_each(|(w, o)| node_columns(w, mu, o));
+                }
+                for (j, &x) in w[reactions..].iter().enumerate() {
+                    if let Some(c) = amplitude[j] {
+                        out[SIDES * m + c] = x;
+                    }
+                }
+            }),
+        }
+    });
+    (a, reduced)
 }
 
 /// The program of `classes` at `shape`, normalised by `norm` ([`Norm::Sum`] or
@@ -292,7 +333,11 @@ fn program(
     let modes = form.modes;
     let rows = 3 * m + 1 + modes;
     let mu = shape.mu;
-    let mut lp = Lp::with_matrix(n, rows, counters.matrix(form, shape));
+    let (a, reduced) = counters.matrix(form, shape);
+    let mut lp = Lp::with_matrix(n, rows, a);
+    if let Some(reduced) = reduced {
+        lp = lp.with_reduced(reduced);
+    }
     for k in 3 * m + 1..rows {
         (lp.lo[n + k], lp.hi[n + k]) = (0.0, 0.0);
     }

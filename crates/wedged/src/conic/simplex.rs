@@ -101,6 +101,8 @@ pub(crate) struct Lp {
     a: Arc<Vec<f64>>,
     /// The row of `a` that each row of the program is (`None`: row `k` is row `k`).
     map: Option<Vec<usize>>,
+    /// `A` as a product with fewer unknowns, for the row products ([`Reduced`]).
+    reduced: Option<Arc<Reduced>>,
     /// Bounds of the `n + rows` variables: columns, then row activities.
     pub lo: Vec<f64>,
     pub hi: Vec<f64>,
@@ -124,15 +126,25 @@ impl Lp {
             rows,
             a,
             map: None,
+            reduced: None,
             lo: vec![f64::NEG_INFINITY; total],
             hi: vec![f64::INFINITY; total],
             cost: vec![0.0; total],
         }
     }
 
+    /// The same program, its row products ([`Lp::row_times`]) taken through `reduced`, which
+    /// must be `A`'s factors.
+    pub(crate) fn with_reduced(mut self, reduced: Arc<Reduced>) -> Lp {
+        debug_assert_eq!(reduced.a.len(), reduced.width * self.rows);
+        self.reduced = Some(reduced);
+        self
+    }
+
     /// The entries of `A`, row-major, to be written (copied first when shared).
     pub(crate) fn a_mut(&mut self) -> &mut [f64] {
         assert!(self.map.is_none(), "a part of a program is not written");
+        assert!(self.reduced.is_none(), "a factored program is not written");
         Arc::make_mut(&mut self.a).as_mut_slice()
     }
 
@@ -176,12 +188,48 @@ impl Lp {
         let n = self.n;
         out.clear();
         out.resize(self.total(), 0.0);
+        if let Some(reduced) = &self.reduced {
+            let width = reduced.width;
+            let mut w = vec![0.0; width];
+            for (k, &vk) in v.iter().enumerate() {
+                if vk != 0.0 {
+                    let at = self.source_row(k);
+                    axpy(&mut w, vk, &reduced.a[at * width..(at + 1) * width]);
+                    out[n + k] = -vk;
+                }
+            }
+            (reduced.expand)(&w, &mut out[..n]);
+            return;
+        }
         for (k, &vk) in v.iter().enumerate() {
             if vk != 0.0 {
                 axpy(&mut out[..n], vk, self.row(k));
                 out[n + k] = -vk;
             }
         }
+    }
+}
+
+/// A program's `A` as the product `R X` of a matrix `R` with fewer columns (`width`) and a
+/// fixed map `X` of its columns onto `A`'s (`expand`: a row of `R`'s width to the row of `A`
+/// it makes). The 3D search programs ([`super::node_lp`]) are such: each row is a functional of
+/// the reaction components, and a node's [`super::node_lp::SIDES`] columns are combinations of
+/// its three components, so a combination of rows (the pivot row, the reduced costs, a
+/// certificate's check) costs `width` a row and three terms a column, not `n`.
+pub(crate) struct Reduced {
+    pub width: usize,
+    /// `R`, row-major: the rows of the whole program (a part maps its rows onto them as it
+    /// does onto `A`'s).
+    pub a: Vec<f64>,
+    pub expand: Expand,
+}
+
+/// [`Reduced::expand`]: a row of `R`'s width into the row of `A` it makes.
+pub(crate) type Expand = Box<dyn Fn(&[f64], &mut [f64]) + Send + Sync>;
+
+impl std::fmt::Debug for Reduced {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Reduced {{ width: {} }}", self.width)
     }
 }
 

@@ -78,3 +78,61 @@ fn the_sum_relaxes_an_undecided_pressed_program_soundly() {
     // Both ways, and some nodes the relaxation keeps that the pressed program prunes.
     assert!(pruned > 20 && kept > 20, "{pruned} {kept}");
 }
+
+/// The 3D programs' factors ([`Reduced`]) make their matrix: a combination of rows taken
+/// through them (as the simplex method's row products are) equals the same combination of the
+/// matrix's rows, at finite and infinite `mu`; 2D programs have none.
+#[test]
+fn the_factors_make_the_matrix() {
+    for seed in 0..12u64 {
+        let m = 2 + (seed % 4) as usize;
+        let mu = match seed % 3 {
+            0 => f64::INFINITY,
+            _ => 0.4 + 0.3 * seed as f64,
+        };
+        let problem = crate::examples::random_spd_problem_dim(3, m, 1.5, 400 + seed);
+        let form = Formulation::new(&problem);
+        let (a, reduced) = matrix(&form, Shape { mu, drive: None });
+        let reduced = reduced.expect("3D programs are factored");
+        let rows = 3 * m + 1;
+        let n = a.len() / rows;
+        assert_eq!(reduced.a.len(), reduced.width * rows);
+        let mut lcg = seed.wrapping_add(11);
+        let v: Vec<f64> = (0..rows)
+            .map(|_| {
+                lcg = lcg
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (lcg >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+            })
+            .collect();
+        let mut dense = vec![0.0; n];
+        let mut w = vec![0.0; reduced.width];
+        for (k, &vk) in v.iter().enumerate() {
+            let (row, small) = (
+                &a[k * n..(k + 1) * n],
+                &reduced.a[k * reduced.width..(k + 1) * reduced.width],
+            );
+            dense.iter_mut().zip(row).for_each(|(x, y)| *x += vk * y);
+            w.iter_mut().zip(small).for_each(|(x, y)| *x += vk * y);
+        }
+        let mut through = vec![f64::NAN; n];
+        (reduced.expand)(&w, &mut through);
+        let size = dense.iter().fold(1.0f64, |s, x| s.max(x.abs()));
+        for j in 0..n {
+            assert!(
+                (through[j] - dense[j]).abs() <= 1e-12 * size,
+                "seed {seed}, mu {mu}, column {j}: {} against {}",
+                through[j],
+                dense[j]
+            );
+        }
+    }
+    let flat = random_spd_problem(3, 1.0, 1);
+    let form = Formulation::new(&flat);
+    let shape = Shape {
+        mu: 1.0,
+        drive: None,
+    };
+    assert!(matrix(&form, shape).1.is_none());
+}

@@ -213,6 +213,7 @@ pub(super) fn part<'a>(lp: &'a Lp, rows: &[usize]) -> Cow<'a, Lp> {
         rows: rows.len(),
         a: Arc::clone(&lp.a),
         map: Some(map),
+        reduced: lp.reduced.clone(),
         lo: pick(&lp.lo),
         hi: pick(&lp.hi),
         cost: pick(&lp.cost),
