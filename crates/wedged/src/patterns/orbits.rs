@@ -16,10 +16,11 @@
 //! **Witnesses by orbit.** In 3D (a clamped body) the finishing step solves one cone program
 //! per orbit of maximal patterns under the group the symmetries generate ([`Group`]): the
 //! witness of the orbit's least pattern, mapped to the others and checked there like any
-//! witness (a mapped witness that fails its check is solved for itself). On the 3D V-groove
-//! plug (m = 30, 1.2 `mu*`, three symmetries) that took the cone programs from 7,542 to
-//! 5,778 and the whole run from 20.7 s to 18.8 s (`BENCHMARKS.md`). (In 2D the witnesses are
-//! the simplex method's, a few pivots each: left alone.)
+//! witness (a mapped witness that fails its check is solved for itself); `bnb`'s leaves do
+//! the same with their realised patterns (`bnb.rs`, `Search::leaf`). On the 3D V-groove plug
+//! (m = 30, 1.2 `mu*`, three symmetries) the two took the cone programs from 7,542 to 2,374
+//! and the whole run from 21.1 s to 17.4 s (`BENCHMARKS.md`). (In 2D the witnesses are the
+//! simplex method's, a few pivots each: left alone.)
 
 use rayon::prelude::*;
 
@@ -50,7 +51,8 @@ fn inside(classes: &[Class], q: &[ContactPattern]) -> bool {
     })
 }
 
-/// The image of a pattern under the involution `s`.
+/// The image of a pattern (or of any per-node values) under the permutation `s`: node `s(i)`
+/// takes node `i`'s.
 fn image<T: Clone>(s: &[usize], q: &[T]) -> Vec<T> {
     let mut p = q.to_vec();
     for (i, c) in q.iter().enumerate() {
