@@ -221,25 +221,49 @@ fn corners() -> &'static [(f64, f64); SIDES] {
     })
 }
 
-/// A node's column coefficients (into `out`, [`per_node`] of them) of a row whose entries at
-/// the node's reaction components are `w`, at `mu`.
-fn node_columns(w: &[f64], mu: f64, out: &mut [f64]) {
-    match (w.len(), mu.is_finite()) {
-        (2, true) => {
-            out[0] = w[0] + mu * w[1];
-            out[1] = w[0] - mu * w[1];
-        }
+/// Writes `row` (over the `d m` reactions, then a floating body's amplitudes) into `out`, a
+/// program's row over each node's friction edges ([`per_node`] of them) at `mu` and then the
+/// amplitude columns (`amplitude(j)`: rigid mode `j`'s column, if it has one). Both
+/// [`put_row`] and the simplex method's row products through the factors ([`Reduced`], at
+/// every pivot) call it, so the case is settled once a row, not once a node.
+fn spread(
+    (d, m, mu): (usize, usize, f64),
+    amplitude: impl Fn(usize) -> Option<usize>,
+    row: &[f64],
+    out: &mut [f64],
+) {
+    let g = per_node(d);
+    let reactions = d * m;
+    let nodes = row[..reactions].chunks(d).zip(out.chunks_mut(g));
+    match (d, mu.is_finite()) {
+        (2, true) => nodes.for_each(|(w, o)| {
+            o[0] = w[0] + mu * w[1];
+            o[1] = w[0] - mu * w[1];
+        }),
         (_, true) => {
-            let (t1, t2) = (mu * w[1], mu * w[2]);
-            for (o, &(c, s)) in out.iter_mut().zip(corners()) {
-                *o = w[0] + c * t1 + s * t2;
+            // Fixed sizes, so that the inner loop compiles for 12 columns (measured: 10% of
+            // the V-groove plug's m = 30 enumeration with sizes known only at run time).
+            let corners = corners();
+            let nodes = row[..reactions]
+                .chunks_exact(3)
+                .zip(out.chunks_exact_mut(SIDES));
+            for (w, o) in nodes {
+                let (t1, t2) = (mu * w[1], mu * w[2]);
+                for (o, &(c, s)) in o.iter_mut().zip(corners) {
+                    *o = w[0] + c * t1 + s * t2;
+                }
             }
         }
         // At mu = infinity: the columns are the reaction components (tangents free), the 3D
         // program's other columns unused (fixed at zero).
-        (_, false) => {
-            out.iter_mut().for_each(|o| *o = 0.0);
-            out[..w.len()].copy_from_slice(w);
+        (_, false) => nodes.for_each(|(w, o)| {
+            o.iter_mut().for_each(|o| *o = 0.0);
+            o[..w.len()].copy_from_slice(w);
+        }),
+    }
+    for (j, &x) in row.get(reactions..).unwrap_or(&[]).iter().enumerate() {
+        if let Some(c) = amplitude(j) {
+            out[g * m + c] = x;
         }
     }
 }
@@ -290,26 +314,7 @@ fn matrix(form: &Formulation, shape: Shape) -> (Vec<f64>, Option<Reduced>) {
             width,
             a: small,
             expand: Box::new(move |w: &[f64], out: &mut [f64]| {
-                let nodes = w[..reactions]
-                    .chunks_exact(3)
-                    .zip(out.chunks_exact_mut(SIDES));
-                if mu.is_finite() {
-                    // `node_columns`'s terms, inlined: this runs at every pivot.
-                    let corners = corners();
-                    for (w, o) in nodes {
-                        let (t1, t2) = (mu * w[1], mu * w[2]);
-                        for (o, &(c, s)) in o.iter_mut().zip(corners.iter()) {
-                            *o = w[0] + c * t1 + s * t2;
-                        }
-                    }
-                } else {
-                    nodes.for_each(|(w, o)| node_columns(w, mu, o));
-                }
-                for (j, &x) in w[reactions..].iter().enumerate() {
-                    if let Some(c) = amplitude[j] {
-                        out[SIDES * m + c] = x;
-                    }
-                }
+                spread((d, m, mu), |j| amplitude[j], w, out)
             }),
         }
     });
@@ -392,17 +397,7 @@ fn program(
 /// program's row over each node's friction edges ([`per_node`] of them) at `mu` and then the
 /// amplitude columns.
 pub(super) fn put_row(form: &Formulation, mu: f64, row: &[f64], out: &mut [f64]) {
-    let d = form.dim;
-    let g = per_node(d);
-    let reactions = d * form.m;
-    for (w, o) in row[..reactions].chunks(d).zip(out.chunks_mut(g)) {
-        node_columns(w, mu, o);
-    }
-    for (j, &x) in row.get(reactions..).unwrap_or(&[]).iter().enumerate() {
-        if let Some(c) = form.amplitude_of(j) {
-            out[g * form.m + c] = x;
-        }
-    }
+    spread((form.dim, form.m, mu), |j| form.amplitude_of(j), row, out)
 }
 
 /// The point of the columns `x` at `mu`: the reactions (`dm`), then for a floating body the
