@@ -434,6 +434,11 @@ struct Run<'a> {
     /// vector for each of a run's products, a program of the random m = 9 enumeration made
     /// about 75 allocations.)
     scratch: [Vec<f64>; 3],
+    /// The variables that are not fixed (`lo < hi`), in order: the only ones that can enter
+    /// the basis, so the ratio tests and the pricing look at these alone. (A 3D search node's
+    /// separated nodes fix their polygon's edges, a quarter of the columns halfway down the
+    /// V-groove plug's tree.)
+    movable: Vec<usize>,
 }
 
 impl<'a> Run<'a> {
@@ -445,6 +450,7 @@ impl<'a> Run<'a> {
             x: vec![0.0; lp.total()],
             d: vec![0.0; lp.total()],
             scratch: Default::default(),
+            movable: (0..lp.total()).filter(|&j| lp.lo[j] != lp.hi[j]).collect(),
         };
         run.settle_nonbasic();
         run
@@ -476,7 +482,8 @@ impl<'a> Run<'a> {
             if perturb {
                 shifted |= self.perturb_costs();
             } else {
-                for j in 0..lp.total() {
+                for i in 0..self.movable.len() {
+                    let j = self.movable[i];
                     if self.dual_wrong(j) {
                         self.cost[j] -= self.d[j];
                         shifted = true;
@@ -534,9 +541,9 @@ impl<'a> Run<'a> {
                 let big = alpha_row.iter().fold(0.0f64, |a, x| a.max(x.abs()));
                 // Harris's two passes over the candidates (d_j moves by theta s alpha_j).
                 cands.clear();
-                cands.extend((0..lp.total()).filter_map(|j| {
+                cands.extend(self.movable.iter().filter_map(|&j| {
                     let at = self.basis.at[j];
-                    if at == At::Basic || lp.lo[j] == lp.hi[j] {
+                    if at == At::Basic {
                         return None;
                     }
                     let a = s * alpha_row[j];
@@ -598,10 +605,14 @@ impl<'a> Run<'a> {
                 } else {
                     stalled = 0;
                 }
-                for (j, &a) in alpha_row.iter().enumerate() {
-                    if self.basis.at[j] != At::Basic && a != 0.0 {
-                        self.d[j] += theta * s * a;
-                    }
+                // Every entry moves (a basic one's is put back to zero after), which the
+                // compiler vectorises; a test per entry cost a tenth of a 3D search's time.
+                let step = theta * s;
+                for (d, &a) in self.d.iter_mut().zip(&alpha_row) {
+                    *d += step * a;
+                }
+                for &j in &self.basis.head {
+                    self.d[j] = 0.0;
                 }
                 let out = self.basis.head[p];
                 let target = if s > 0.0 { lp.lo[out] } else { lp.hi[out] };
@@ -647,7 +658,7 @@ impl<'a> Run<'a> {
             }
             let bland = stalled >= STALL;
             let pick = |run: &Run| {
-                let wrong = (0..lp.total()).filter(|&j| run.dual_wrong(j));
+                let wrong = run.movable.iter().copied().filter(|&j| run.dual_wrong(j));
                 if bland {
                     return wrong.min();
                 }

@@ -356,6 +356,32 @@ pub(super) fn dot_terms(a: &[f64], b: &[f64]) -> (f64, f64) {
 }
 }
 
+kernel! {
+/// The least and the greatest of `a . x` over the box `lo <= x <= hi` (all of them finite), on
+/// eight partial sums each (as [`dot`]): the interval a row's columns imply for its activity.
+pub(super) fn implied(a: &[f64], lo: &[f64], hi: &[f64]) -> (f64, f64) {
+    let (mut least, mut most) = ([0.0f64; 8], [0.0f64; 8]);
+    let (a8, lo8, hi8) = (a.chunks_exact(8), lo.chunks_exact(8), hi.chunks_exact(8));
+    let (mut tail_least, mut tail_most) = (0.0, 0.0);
+    for ((&x, &l), &h) in a8.remainder().iter().zip(lo8.remainder()).zip(hi8.remainder()) {
+        let (at_least, at_most) = if x > 0.0 { (l, h) } else { (h, l) };
+        tail_least += x * at_least;
+        tail_most += x * at_most;
+    }
+    for ((x, l), h) in a8.zip(lo8).zip(hi8) {
+        for k in 0..8 {
+            let (at_least, at_most) = if x[k] > 0.0 { (l[k], h[k]) } else { (h[k], l[k]) };
+            least[k] += x[k] * at_least;
+            most[k] += x[k] * at_most;
+        }
+    }
+    (
+        least.iter().sum::<f64>() + tail_least,
+        most.iter().sum::<f64>() + tail_most,
+    )
+}
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -403,6 +429,36 @@ mod tests {
             assert_eq!(d.to_bits(), reference.to_bits(), "dot_terms, {len}");
             let size_ref = size.iter().fold(-0.0, |s, x| s + x) + tail_size;
             assert_eq!(t.to_bits(), size_ref.to_bits(), "dot_terms size, {len}");
+
+            // The implied interval over a box: each term at the bound its sign picks.
+            let c = values(len, 2000 + len as u64);
+            let (lo, hi): (Vec<f64>, Vec<f64>) = b
+                .iter()
+                .zip(&c)
+                .map(|(&p, &q)| (p.min(q), p.max(q)))
+                .unzip();
+            let (mut least, mut most) = ([0.0f64; 8], [0.0f64; 8]);
+            let (mut tail_least, mut tail_most) = (0.0, 0.0);
+            for i in 0..len {
+                let (l, h) = if a[i] > 0.0 {
+                    (lo[i], hi[i])
+                } else {
+                    (hi[i], lo[i])
+                };
+                if i < whole {
+                    least[i % 8] += a[i] * l;
+                    most[i % 8] += a[i] * h;
+                } else {
+                    tail_least += a[i] * l;
+                    tail_most += a[i] * h;
+                }
+            }
+            let (il, ih) = implied(&a, &lo, &hi);
+            let least_ref = least.iter().fold(-0.0, |s, x| s + x) + tail_least;
+            let most_ref = most.iter().fold(-0.0, |s, x| s + x) + tail_most;
+            assert_eq!(il.to_bits(), least_ref.to_bits(), "implied least, {len}");
+            assert_eq!(ih.to_bits(), most_ref.to_bits(), "implied most, {len}");
+            assert!(il <= ih, "implied, {len}");
 
             let mut y = a.clone();
             axpy(&mut y, -0.375, &b);
