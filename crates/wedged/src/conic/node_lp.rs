@@ -267,6 +267,47 @@ fn spread(
         }
     }
 }
+/// The transpose of [`spread`]: the columns' values `x` (each node's friction edges, then the
+/// amplitude columns) gathered onto the reaction components and amplitudes, `w = X x`, so that
+/// a row's activity is the factor row times `w` ([`Reduced::gather`]).
+fn gather(
+    (d, m, mu): (usize, usize, f64),
+    amplitude: impl Fn(usize) -> Option<usize>,
+    x: &[f64],
+    w: &mut [f64],
+) {
+    let g = per_node(d);
+    let reactions = d * m;
+    let nodes = w[..reactions].chunks_mut(d).zip(x.chunks(g));
+    match (d, mu.is_finite()) {
+        (2, true) => nodes.for_each(|(w, e)| {
+            w[0] = e[0] + e[1];
+            w[1] = mu * (e[0] - e[1]);
+        }),
+        (_, true) => {
+            let corners = corners();
+            let nodes = w[..reactions]
+                .chunks_exact_mut(3)
+                .zip(x.chunks_exact(SIDES));
+            for (w, e) in nodes {
+                let (mut n, mut t1, mut t2) = (0.0, 0.0, 0.0);
+                for (&v, &(c, s)) in e.iter().zip(corners) {
+                    n += v;
+                    t1 += c * v;
+                    t2 += s * v;
+                }
+                w[0] = n;
+                w[1] = mu * t1;
+                w[2] = mu * t2;
+            }
+        }
+        (_, false) => nodes.for_each(|(w, e)| w.copy_from_slice(&e[..w.len()])),
+    }
+    for (j, v) in w[reactions..].iter_mut().enumerate() {
+        *v = amplitude(j).map_or(0.0, |c| x[g * m + c]);
+    }
+}
+
 /// The matrix of the programs of `shape` (`3m + 1 + k` rows of the columns, row-major; see
 /// the module docs): the same for every node of a search that has the same `mu` and drive
 /// bounds, so built once and kept by each thread that uses it ([`LpCounters::matrix`]). In
@@ -310,12 +351,15 @@ fn matrix(form: &Formulation, shape: Shape) -> (Vec<f64>, Option<Reduced>) {
     }
     let reduced = (d == 3).then(|| {
         let amplitude: Vec<Option<usize>> = (0..form.modes).map(|j| form.amplitude_of(j)).collect();
+        let amplitude = Arc::new(amplitude);
+        let of = Arc::clone(&amplitude);
         Reduced {
             width,
             a: small,
             expand: Box::new(move |w: &[f64], out: &mut [f64]| {
                 spread((d, m, mu), |j| amplitude[j], w, out)
             }),
+            gather: Box::new(move |x: &[f64], w: &mut [f64]| gather((d, m, mu), |j| of[j], x, w)),
         }
     });
     (a, reduced)

@@ -183,6 +183,25 @@ impl Lp {
         out
     }
 
+    /// The activities `A x` of every row through the factors ([`Reduced`]), when the program
+    /// has them: `width` terms a row instead of `n`. They may differ from the direct sums in
+    /// the last bits; [`check::check_point`] checks a row against its bounds that way only
+    /// with the tolerance that the direct sum's terms would give at least.
+    fn activities(&self, x: &[f64]) -> Option<Vec<f64>> {
+        let reduced = self.reduced.as_ref()?;
+        let width = reduced.width;
+        let mut w = vec![0.0; width];
+        (reduced.gather)(&x[..self.n], &mut w);
+        Some(
+            (0..self.rows)
+                .map(|k| {
+                    let at = self.source_row(k);
+                    dense::dot(&reduced.a[at * width..(at + 1) * width], &w)
+                })
+                .collect(),
+        )
+    }
+
     /// [`Lp::row_times`] into `out` (its storage reused).
     fn row_times_into(&self, v: &[f64], out: &mut Vec<f64>) {
         let n = self.n;
@@ -222,6 +241,9 @@ pub(crate) struct Reduced {
     /// does onto `A`'s).
     pub a: Vec<f64>,
     pub expand: Expand,
+    /// The transpose: a point's columns `x` onto `R`'s width, `X x`, so that the row
+    /// activities are `R (X x)` ([`Lp::activities`]).
+    pub gather: Expand,
 }
 
 /// [`Reduced::expand`]: a row of `R`'s width into the row of `A` it makes.

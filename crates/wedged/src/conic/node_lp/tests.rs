@@ -82,6 +82,24 @@ fn the_sum_relaxes_an_undecided_pressed_program_soundly() {
 /// The 3D programs' factors ([`Reduced`]) make their matrix: a combination of rows taken
 /// through them (as the simplex method's row products are) equals the same combination of the
 /// matrix's rows, at finite and infinite `mu`; 2D programs have none.
+/// Every row's activity `A x` against its factor row times the gathered columns.
+fn gathered_activities_match(a: &[f64], reduced: &Reduced, x: &[f64], what: &str) {
+    let n = x.len();
+    let mut gathered = vec![f64::NAN; reduced.width];
+    (reduced.gather)(x, &mut gathered);
+    for k in 0..a.len() / n {
+        let row = &a[k * n..(k + 1) * n];
+        let small = &reduced.a[k * reduced.width..(k + 1) * reduced.width];
+        let direct: f64 = row.iter().zip(x).map(|(p, q)| p * q).sum();
+        let terms: f64 = row.iter().zip(x).map(|(p, q)| (p * q).abs()).sum();
+        let factored: f64 = small.iter().zip(&gathered).map(|(p, q)| p * q).sum();
+        assert!(
+            (direct - factored).abs() <= 1e-12 * (1.0 + terms),
+            "{what}, row {k}: {factored} against {direct}"
+        );
+    }
+}
+
 #[test]
 fn the_factors_make_the_matrix() {
     for seed in 0..12u64 {
@@ -127,6 +145,36 @@ fn the_factors_make_the_matrix() {
                 dense[j]
             );
         }
+        // Row activities: `A x` against the factor rows times the gathered columns.
+        let x: Vec<f64> = (0..n)
+            .map(|_| {
+                lcg = lcg
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (lcg >> 11) as f64 / (1u64 << 53) as f64
+            })
+            .collect();
+        gathered_activities_match(&a, &reduced, &x, &format!("seed {seed}, mu {mu}"));
+    }
+    // A floating body's amplitude columns: each mode's column, or none.
+    for seed in 0..3u64 {
+        let problem = crate::examples::floating_notch(3, 4, 20.0, 1.0, seed);
+        let form = Formulation::new(&problem);
+        assert!(
+            form.amplitudes() > 0,
+            "a floating body has amplitude columns"
+        );
+        let (a, reduced) = matrix(
+            &form,
+            Shape {
+                mu: 1.0,
+                drive: None,
+            },
+        );
+        let reduced = reduced.expect("3D programs are factored");
+        let n = a.len() / (3 * form.m + 1 + form.modes);
+        let x: Vec<f64> = (0..n).map(|j| ((j * 7 + 3) % 11) as f64 - 5.0).collect();
+        gathered_activities_match(&a, &reduced, &x, &format!("floating, seed {seed}"));
     }
     let flat = random_spd_problem(3, 1.0, 1);
     let form = Formulation::new(&flat);

@@ -121,11 +121,15 @@ pub(super) fn violated(lp: &Lp, rows: &[usize], x: &[f64]) -> Vec<usize> {
     for &k in rows {
         active[k] = true;
     }
+    // Through the factors where the program has them (the same sums in another order).
+    let factored = lp.activities(x);
     (0..lp.rows)
         .filter(|&k| !active[k] && !idle(lp, k))
         .filter(|&k| {
             let (lo, hi) = (lp.lo[lp.n + k], lp.hi[lp.n + k]);
-            let v = dot(lp.row(k), x);
+            let v = factored
+                .as_ref()
+                .map_or_else(|| dot(lp.row(k), x), |v| v[k]);
             !(v >= lo - TOL * (1.0 + lo.abs()) && v <= hi + TOL * (1.0 + hi.abs()))
         })
         .collect()

@@ -13,10 +13,23 @@ pub(super) fn check_point(lp: &Lp, x: &[f64]) -> Result<Answer, String> {
     for (j, v) in x.iter().enumerate() {
         terms[j] = v.abs();
     }
+    // Through the factors where the program has them: a row whose activity lies within
+    // `TOL (1 + |activity|)` of its bounds passes at once, since the direct sum's terms add up
+    // to at least `|activity|`; any other row is summed directly, with its terms. (The check
+    // was a twentieth of the 3D V-groove plug's search.)
+    let factored = lp.activities(x);
     for k in 0..lp.rows {
-        let (activity, size) = dot_terms(lp.row(k), x);
+        let j = n + k;
+        let quick = factored.as_ref().map(|v| v[k]).filter(|&v| {
+            let allowed = TOL * (1.0 + v.abs());
+            v >= lp.lo[j] - allowed && v <= lp.hi[j] + allowed
+        });
+        let (activity, size) = match quick {
+            Some(v) => (v, v.abs()),
+            None => dot_terms(lp.row(k), x),
+        };
         all.push(activity);
-        terms[n + k] = size;
+        terms[j] = size;
     }
     for (j, &v) in all.iter().enumerate() {
         if !v.is_finite() {
