@@ -232,7 +232,7 @@ impl Lp {
 /// A program's `A` as the product `R X` of a matrix `R` with fewer columns (`width`) and a
 /// fixed map `X` of its columns onto `A`'s (`expand`: a row of `R`'s width to the row of `A`
 /// it makes). The 3D search programs ([`super::node_lp`]) are such: each row is a functional of
-/// the reaction components, and a node's [`super::node_lp::SIDES`] columns are combinations of
+/// the reaction components, and a node's `SIDES` ([`super::node_lp`]) columns are combinations of
 /// its three components, so a combination of rows (the pivot row, the reduced costs, a
 /// certificate's check) costs `width` a row and three terms a column, not `n`.
 pub(crate) struct Reduced {
