@@ -35,8 +35,9 @@ pub(super) fn corners() -> &'static [(f64, f64); SIDES] {
 /// Writes `row` (over the `d m` reactions, then a floating body's amplitudes) into `out`, a
 /// program's row over each node's friction edges ([`per_node`] of them) at `mu` and then the
 /// amplitude columns (`amplitude(j)`: rigid mode `j`'s column, if it has one). Both
-/// [`put_row`](super::put_row) and the simplex method's row products through the factors ([`Reduced`](crate::conic::simplex::Reduced), at
-/// every pivot) call it, so the case is settled once a row, not once a node.
+/// [`put_row`](super::put_row) and the simplex method's row products through the factors
+/// ([`Reduced`](crate::conic::simplex::Reduced), at every pivot) call it, so the case is
+/// settled once a row, not once a node.
 pub(super) fn spread(
     (d, m, mu): (usize, usize, f64),
     amplitude: impl Fn(usize) -> Option<usize>,
@@ -78,9 +79,11 @@ pub(super) fn spread(
         }
     }
 }
+
 /// The transpose of [`spread`]: the columns' values `x` (each node's friction edges, then the
 /// amplitude columns) gathered onto the reaction components and amplitudes, `w = X x`, so that
-/// a row's activity is the factor row times `w` ([`Reduced::gather`](crate::conic::simplex::Reduced::gather)).
+/// a row's activity is the factor row times `w`
+/// ([`Reduced::gather`](crate::conic::simplex::Reduced::gather)).
 pub(super) fn gather(
     (d, m, mu): (usize, usize, f64),
     amplitude: impl Fn(usize) -> Option<usize>,
