@@ -3,19 +3,20 @@
 //! ([`super::simplex`]), warm-started from the parent's basis.
 //!
 //! **In 3D the program is a relaxation.** The friction cone `||r_t|| <= mu r_n` is replaced by
-//! the cone over a regular polygon of [`SIDES`](columns::SIDES) sides that holds its circle (corners at
-//! `mu / cos(pi / SIDES)`). So an infeasible 3D program refutes the node's second-order cone
-//! program too (a valid prune), but a feasible one's point may lie outside the true cone: it
-//! steers branching only, and a leaf is decided by the cone program itself (Clarabel).
+//! the cone over a regular polygon of [`SIDES`](columns::SIDES) sides that holds its circle
+//! (corners at `mu / cos(pi / SIDES)`). So an infeasible 3D program refutes the node's
+//! second-order cone program too (a valid prune), but a feasible one's point may lie outside
+//! the true cone: it steers branching only, and a leaf is decided by the cone program itself
+//! (Clarabel).
 //!
 //! **The program** has one fixed shape for the whole search, so that a basis carries over from
 //! a node to its children and to its bound-tightening programs, which differ only in bounds
 //! and costs:
 //! - per node, the friction cone's edges as columns, `a_i, b_i >= 0` in 2D: `r_n_i = a_i + b_i`,
 //!   `r_t_i = mu (a_i - b_i)` (at `mu = infinity`: `r_n_i = a_i`, `r_t_i = b_i` free), so the
-//!   friction law is a pair of bounds; in 3D the [`SIDES`](columns::SIDES) edges of the outer polygon's cone
-//!   (at `mu = infinity` the reaction components, tangents free); a node without a reaction
-//!   has them fixed at zero;
+//!   friction law is a pair of bounds; in 3D the [`SIDES`](columns::SIDES) edges of the outer
+//!   polygon's cone (at `mu = infinity` the reaction components, tangents free); a node
+//!   without a reaction has them fixed at zero;
 //! - for a floating body, one free column per rigid amplitude that moves some contact node
 //!   normally ([`Formulation::amplitude_of`]): `u = G r + R a`;
 //! - rows, each a row activity with bounds: the scaled gaps `u_n_i` (`= 0` in contact, `>= 0`
@@ -46,8 +47,7 @@ use super::simplex::{self, Answer, Basis, Lp, Reduced};
 
 mod columns;
 
-use columns::per_node;
-use columns::{corners, gather, spread};
+use columns::{corners, gather, per_node, spread};
 
 /// The bound on the total pressure of a program normalised by [`Norm::Pressed`] (each contact
 /// node `r_n_i >= 1`): such a program asks for a solution that presses every contact node with
