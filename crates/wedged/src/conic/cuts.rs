@@ -111,6 +111,17 @@ pub(crate) fn tighten_depth_3d(m: usize) -> usize {
     (m / 5).max(5)
 }
 
+/// The depth down to which the patterns' 3D `bnb` tightens the drive bounds: twice
+/// [`tighten_depth_3d`] (`critical`'s), since its nodes' programs have grown cheaper while a
+/// tightened node's subtree shrinks as before. (Measured on the 3D V-groove plug at 1.2 `mu*`,
+/// `enumerate`, whole process: m = 20, depths 5, 6, 8, 10, 12: 0.66, 0.55, 0.50, 0.57, 0.88 s
+/// (12.8k, 10.2k, 6.8k, 5.3k, 4.9k nodes); m = 30, depths 3, 6, 9, 12, 15, 18, 22: 16.7, 12.8,
+/// 10.0, 9.1, 9.5, 11.2, 13.6 s (246k, 163k, 116k, 82k, 69k, 65k, 63k nodes); m = 40, depths 8,
+/// 16, 20: 283, 181 to 197, 201 s (2.11M, 1.12M, 1.03M nodes); BENCHMARKS.md.)
+pub(crate) fn enumeration_depth_3d(m: usize) -> usize {
+    (2 * m / 5).max(5)
+}
+
 /// The solver of [`tighten`]'s programs: `(key, classes, objective)` to the least value.
 pub(crate) type Minimise<'a> = dyn Fn(usize, &[Class], &[f64]) -> Decision + Sync + 'a;
 

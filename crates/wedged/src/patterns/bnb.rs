@@ -474,6 +474,24 @@ impl Search<'_, '_> {
     }
 }
 
+/// The depth down to which a 3D search tightens ([`crate::conic::cuts::enumeration_depth_3d`],
+/// or a test's [`DEPTH`]).
+fn depth_3d(m: usize) -> usize {
+    #[cfg(test)]
+    {
+        let depth = DEPTH.load(Ordering::Relaxed);
+        if depth != usize::MAX {
+            return depth;
+        }
+    }
+    crate::conic::cuts::enumeration_depth_3d(m)
+}
+
+/// A test's tightening depth for the 3D searches (`usize::MAX`: the default), to show that the
+/// depth changes the tree and never the answer.
+#[cfg(test)]
+static DEPTH: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(usize::MAX);
+
 /// Runs the search; progress is reported from the calling thread every 200 ms.
 pub(super) fn run(
     form: &Formulation,
@@ -498,7 +516,7 @@ pub(super) fn run(
         tighten_depth: if form.refutations.is_none() && form.modes == 0 {
             match form.dim {
                 2 => crate::rays::search::tree::tighten_depth(form.m),
-                _ => crate::conic::cuts::tighten_depth_3d(form.m),
+                _ => depth_3d(form.m),
             }
         } else {
             0
@@ -547,5 +565,58 @@ pub(super) fn run(
         undecided: search.undecided.into_inner().unwrap_or_default(),
         shard: split,
         witnesses: search.witnesses.into_inner().unwrap_or_default(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{enumerate_patterns, PatternMethod, PatternSettings};
+
+    /// The tightening depth changes the tree, never the answer: the 3D V-groove plug at
+    /// m = 20 (1.2 `mu*`) has the same patterns, statuses, witnesses and margins without
+    /// tightening, at the old depth (5) and at the default one (8), each search a different
+    /// size.
+    #[test]
+    fn the_tightening_depth_keeps_the_answer() {
+        let model = crate::examples::plug3d(4, 2).expect("the example mesh");
+        let problem = model.problem(1.7895).expect("the example problem");
+        assert_eq!(problem.nodes(), 20);
+        assert_eq!(depth_3d(20), 8);
+        let settings = PatternSettings {
+            method: PatternMethod::Bnb,
+            ..PatternSettings::default()
+        };
+        let run = |depth: usize| {
+            DEPTH.store(depth, Ordering::Relaxed);
+            let found = enumerate_patterns(&problem, &settings);
+            DEPTH.store(usize::MAX, Ordering::Relaxed);
+            found.expect("the plug's patterns")
+        };
+        let runs = [run(0), run(5), run(8)];
+        let pieces = |p: &crate::Patterns| -> Vec<_> {
+            p.patterns
+                .iter()
+                .map(|q| {
+                    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                    (
+                        q.pattern.clone(),
+                        q.status.clone(),
+                        bits(&q.r),
+                        q.margin.to_bits(),
+                    )
+                })
+                .collect()
+        };
+        assert_eq!(runs[0].patterns.len(), 592);
+        for other in &runs[1..] {
+            assert!(other.undecided.is_empty());
+            assert_eq!(pieces(other), pieces(&runs[0]));
+        }
+        let nodes: Vec<u64> = runs.iter().map(|p| p.info.nodes_visited).collect();
+        assert!(
+            nodes[0] > nodes[1] && nodes[1] > nodes[2],
+            "nodes {nodes:?}"
+        );
     }
 }
