@@ -415,12 +415,15 @@ fn attempt(lp: &Lp, mut basis: Basis, stats: &mut Stats) -> Result<(Answer, Basi
         if let Some(y) = y {
             return Ok((check_certificate(lp, &y)?, whole));
         }
-        let broken = active::violated(lp, &rows, &x);
+        // The row activities through the factors (3D), once for both the loose rows' test
+        // and the point's check.
+        let factored = lp.activities(&x);
+        let broken = active::violated(lp, &rows, &x, factored.as_deref());
         if !broken.is_empty() {
             basis = active::add(lp, &whole, &broken);
             continue;
         }
-        match check_point(lp, &x) {
+        match check_point(lp, &x, factored.as_deref()) {
             Ok(answer) => {
                 if let Answer::Optimal { x: all, .. } = &answer {
                     whole.activity = all[lp.n..].to_vec();

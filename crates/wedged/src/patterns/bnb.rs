@@ -609,9 +609,9 @@ mod tests {
                 .collect()
         };
         assert_eq!(runs[0].patterns.len(), 592);
-        for other in &runs[1..] {
-            assert!(other.undecided.is_empty());
-            assert_eq!(pieces(other), pieces(&runs[0]));
+        for run in &runs {
+            assert!(run.undecided.is_empty());
+            assert_eq!(pieces(run), pieces(&runs[0]));
         }
         let nodes: Vec<u64> = runs.iter().map(|p| p.info.nodes_visited).collect();
         assert!(

@@ -79,9 +79,6 @@ fn the_sum_relaxes_an_undecided_pressed_program_soundly() {
     assert!(pruned > 20 && kept > 20, "{pruned} {kept}");
 }
 
-/// The 3D programs' factors ([`Reduced`]) make their matrix: a combination of rows taken
-/// through them (as the simplex method's row products are) equals the same combination of the
-/// matrix's rows, at finite and infinite `mu`; 2D programs have none.
 /// Every row's activity `A x` against its factor row times the gathered columns.
 fn gathered_activities_match(a: &[f64], reduced: &Reduced, x: &[f64], what: &str) {
     let n = x.len();
@@ -100,6 +97,9 @@ fn gathered_activities_match(a: &[f64], reduced: &Reduced, x: &[f64], what: &str
     }
 }
 
+/// The 3D programs' factors ([`Reduced`]) make their matrix: a combination of rows taken
+/// through them (as the simplex method's row products are) equals the same combination of the
+/// matrix's rows, at finite and infinite `mu`; 2D programs have none.
 #[test]
 fn the_factors_make_the_matrix() {
     for seed in 0..12u64 {

@@ -115,21 +115,18 @@ pub(super) fn add(lp: &Lp, basis: &Basis, added: &[usize]) -> Basis {
 }
 
 /// The rows of `lp` that `rows` leaves out, that are not idle, and whose activity at the
-/// columns `x` breaks a bound by more than [`TOL`] of it.
-pub(super) fn violated(lp: &Lp, rows: &[usize], x: &[f64]) -> Vec<usize> {
+/// columns `x` breaks a bound by more than [`TOL`] of it: the activity from `factored`
+/// ([`Lp::activities`], the same sums in another order) where the program has its factors.
+pub(super) fn violated(lp: &Lp, rows: &[usize], x: &[f64], factored: Option<&[f64]>) -> Vec<usize> {
     let mut active = vec![false; lp.rows];
     for &k in rows {
         active[k] = true;
     }
-    // Through the factors where the program has them (the same sums in another order).
-    let factored = lp.activities(x);
     (0..lp.rows)
         .filter(|&k| !active[k] && !idle(lp, k))
         .filter(|&k| {
             let (lo, hi) = (lp.lo[lp.n + k], lp.hi[lp.n + k]);
-            let v = factored
-                .as_ref()
-                .map_or_else(|| dot(lp.row(k), x), |v| v[k]);
+            let v = factored.map_or_else(|| dot(lp.row(k), x), |v| v[k]);
             !(v >= lo - TOL * (1.0 + lo.abs()) && v <= hi + TOL * (1.0 + hi.abs()))
         })
         .collect()

@@ -5,8 +5,9 @@ use super::dense::{dot_terms, implied};
 use super::{Answer, Lp, CERT, TINY, TOL};
 
 /// The optimal point of columns `x`: row activities recomputed, every bound checked (see the
-/// module docs).
-pub(super) fn check_point(lp: &Lp, x: &[f64]) -> Result<Answer, String> {
+/// module docs); `factored`, the activities through the factors ([`Lp::activities`]) where the
+/// program has them.
+pub(super) fn check_point(lp: &Lp, x: &[f64], factored: Option<&[f64]>) -> Result<Answer, String> {
     let n = lp.n;
     let mut all = x.to_vec();
     let mut terms = vec![0.0; lp.total()];
@@ -17,10 +18,9 @@ pub(super) fn check_point(lp: &Lp, x: &[f64]) -> Result<Answer, String> {
     // `TOL (1 + |activity|)` of its bounds passes at once, since the direct sum's terms add up
     // to at least `|activity|`; any other row is summed directly, with its terms. (The check
     // was a twentieth of the 3D V-groove plug's search.)
-    let factored = lp.activities(x);
     for k in 0..lp.rows {
         let j = n + k;
-        let quick = factored.as_ref().map(|v| v[k]).filter(|&v| {
+        let quick = factored.map(|v| v[k]).filter(|&v| {
             let allowed = TOL * (1.0 + v.abs());
             v >= lp.lo[j] - allowed && v <= lp.hi[j] + allowed
         });
