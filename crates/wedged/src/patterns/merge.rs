@@ -7,20 +7,8 @@
 //! by every shard) and sorts them by pattern, as one run does. A maximal pattern's witness
 //! depends on the pattern alone, so each is the one run's witness.
 
-use super::{below, PatternCertificate, PatternInfo, Patterns, Undecided};
+use super::{keep_maximal, PatternCertificate, PatternInfo, Patterns, Undecided};
 use crate::run::{Outcome, Stop};
-use crate::solution::ContactPattern;
-
-/// Which of `patterns` are maximal: below no other, and the first of equal ones.
-pub fn keep_maximal(patterns: &[&[ContactPattern]]) -> Vec<bool> {
-    (0..patterns.len())
-        .map(|a| {
-            !(0..patterns.len()).any(|b| {
-                b != a && below(patterns[a], patterns[b]) && (patterns[a] != patterns[b] || b < a)
-            })
-        })
-        .collect()
-}
 
 /// Checks that `shards` (each part's `(index, count)`) are shards of one split into `N`, none
 /// twice (the error names the repeated or foreign ones), and returns the missing indices.

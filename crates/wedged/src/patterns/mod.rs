@@ -29,6 +29,7 @@ mod faces;
 mod groups;
 mod leaf;
 pub(crate) use leaf::leaf_pattern;
+mod maximal;
 mod merge;
 mod orbits;
 
@@ -43,8 +44,10 @@ use std::time::Instant;
 use crate::conic::contact_lp::ContactLp;
 use crate::conic::program::{describe, Class, Counters, Entry, Formulation, Support, POSITIVE};
 pub use certify::PatternCertificate;
+pub use maximal::keep_maximal;
+pub(crate) use maximal::maximal;
 pub(crate) use merge::every_shard;
-pub use merge::{check_shards, keep_maximal, merge_shards, missing_text};
+pub use merge::{check_shards, merge_shards, missing_text};
 
 use crate::run::{check_zero_tol, Control, EnumerateError, Limits, Outcome, Stop};
 use crate::shard::{Shard, ShardReport};
@@ -558,26 +561,6 @@ fn check_faces(faces: usize) -> Result<(), EnumerateError> {
             "the pyramid needs 3 to 64 faces, got {faces}"
         )))
     }
-}
-
-/// `a <= b`: every positive entry of `a` is a positive entry of `b`.
-pub(crate) fn below(a: &[ContactPattern], b: &[ContactPattern]) -> bool {
-    a.iter()
-        .zip(b)
-        .all(|(&x, &y)| x == ContactPattern::Grazing || x == y)
-}
-
-/// The maximal elements of a set of patterns, without repeats, sorted.
-pub(crate) fn maximal(mut all: Vec<Vec<ContactPattern>>) -> Vec<Vec<ContactPattern>> {
-    all.sort();
-    all.dedup();
-    let keep: Vec<bool> = (0..all.len())
-        .map(|a| !(0..all.len()).any(|b| b != a && below(&all[a], &all[b])))
-        .collect();
-    all.into_iter()
-        .zip(keep)
-        .filter_map(|(q, k)| k.then_some(q))
-        .collect()
 }
 
 /// The classes of the cone `F_q` of a pattern.
