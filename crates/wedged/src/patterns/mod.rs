@@ -288,7 +288,9 @@ pub type PatternSink<'a> = &'a (dyn Fn(Pattern) + Sync);
 /// [`PatternInfo::streamed`] counts them. `pattern-search` hands each one on as soon as its
 /// leaf is decided (each leaf is tested for maximality on its own, see `search.rs`), in the
 /// order found, so memory does not grow with the number of pieces; the other methods find
-/// their maximal patterns at the end and hand them on then, sorted. A run that stops early has
+/// their maximal patterns at the end and hand them on then, sorted, as their witnesses are
+/// made a chunk at a time (the realised patterns and the orbits' least witnesses are held
+/// until then, not every witnessed pattern). A run that stops early has
 /// handed on the patterns found so far (it is marked incomplete, as without a sink).
 pub fn enumerate_patterns_streaming(
     problem: &Problem,
@@ -458,32 +460,32 @@ fn run(
             ..least.clone()
         })
     };
-    let (finished, mapped) = orbits::finish_by_orbits(
+    // The answers in the order of `pieces` (sorted by pattern, as `maximal` leaves them), a
+    // chunk at a time: kept, or handed to the sink at once.
+    let mapped = orbits::finish_by_orbits(
         &group,
         &pieces,
         settings.certify,
         |q| finish_checked(q, known.get(q)),
         mapped,
-    );
-    info.mapped += mapped;
-    for (q, finished) in pieces.iter().zip(finished) {
-        match finished {
+        |q, finished| match finished {
             Ok((p, s)) => {
-                patterns.push(p);
                 if settings.certify {
                     scaled.push(s);
                 }
+                match sink {
+                    Some(sink) => {
+                        streamed.fetch_add(1, Ordering::Relaxed);
+                        sink(p);
+                    }
+                    None => patterns.push(p),
+                }
             }
             Err(reason) => undecided.push(failed(q, reason)),
-        }
-    }
+        },
+    );
+    info.mapped += mapped;
     patterns.sort_by(|a, b| a.pattern.cmp(&b.pattern));
-    if let Some(sink) = sink {
-        for p in patterns.drain(..) {
-            streamed.fetch_add(1, Ordering::Relaxed);
-            sink(p);
-        }
-    }
     info.streamed = streamed.into_inner();
     let c = &form.counters;
     info.socps = Counters::get(&c.socps);
