@@ -210,27 +210,20 @@ where
     F: Fn(&[ContactPattern]) -> Result<T, String> + Sync + Send,
     M: Fn(&[ContactPattern], usize, &T) -> Result<T, String> + Sync + Send,
 {
-    let mut hand_on = |start: usize, answers: Vec<Result<T, String>>| {
-        for (j, answer) in answers.into_iter().enumerate() {
-            take(&pieces[start + j], answer);
-        }
+    // Without a group every piece is finished itself (no orbits to list).
+    let reps: Vec<_> = match group.is_empty() {
+        true => Vec::new(),
+        false => pieces.iter().map(|q| group.representative(q)).collect(),
     };
-    if group.is_empty() {
-        for start in (0..pieces.len()).step_by(CHUNK) {
-            let end = (start + CHUNK).min(pieces.len());
-            hand_on(start, each(&pieces[start..end], sequential, |q| finish(q)));
-        }
-        return 0;
-    }
-    let reps: Vec<_> = pieces.iter().map(|q| group.representative(q)).collect();
     let mut least: Vec<Vec<ContactPattern>> = reps.iter().map(|r| r.0.clone()).collect();
     least.sort();
     least.dedup();
     let done = each(&least, sequential, |q| finish(q));
     let mapped = std::sync::atomic::AtomicU64::new(0);
-    let answer = |j: &usize| {
-        let j = *j;
-        let (rep, by) = &reps[j];
+    let answer = |&j: &usize| {
+        let Some((rep, by)) = reps.get(j) else {
+            return finish(&pieces[j]);
+        };
         let at = least
             .binary_search(rep)
             .expect("every representative is listed");
@@ -248,7 +241,9 @@ where
     };
     for start in (0..pieces.len()).step_by(CHUNK) {
         let order: Vec<usize> = (start..(start + CHUNK).min(pieces.len())).collect();
-        hand_on(start, each(&order, sequential, answer));
+        for (&j, answer) in order.iter().zip(each(&order, sequential, answer)) {
+            take(&pieces[j], answer);
+        }
     }
     mapped.into_inner()
 }
