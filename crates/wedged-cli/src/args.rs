@@ -277,7 +277,9 @@ pub(crate) struct EnumerateArgs {
     /// (pattern, status, u, r, margin, as in --json) as soon as it is found, and keep none in
     /// memory. pattern-search (the default with --jsonl in 2D) writes each one as its leaf of
     /// the search is decided, in the order found, so memory does not grow with the number of
-    /// pieces; the other pattern methods write theirs at the end. The summary and --json then
+    /// pieces; bnb (3D) writes each orbit of pieces under the mesh's symmetries as its first
+    /// leaf is decided (pieces with grazing nodes at the end), holding a few bytes per orbit;
+    /// the other pattern methods write theirs at the end. The summary and --json then
     /// give the count, not the pieces. A run that stops early has written the pieces found so
     /// far. `-` streams to stdout, which then holds the lines only (no summary). Not with a ray
     /// method, --vtk, --svg or --shard.

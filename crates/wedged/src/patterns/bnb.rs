@@ -47,6 +47,24 @@ use crate::solution::ContactPattern;
 /// deciding whether a child can inherit it: the solver's accuracy, far below [`POSITIVE`].
 const INHERIT_ZERO: f64 = 1e-9;
 
+/// Where a streamed search ([`run`]'s `stream`) hands each orbit of realised patterns without
+/// grazing nodes (each maximal: such a pattern lies below no other) as soon as its first leaf
+/// is decided: the orbit's patterns (sorted), the realised pattern of the orbit's least contact
+/// set, and that pattern's witness when its leaf's program made one.
+pub(super) type OrbitSink<'a> =
+    &'a (dyn Fn(Vec<Vec<ContactPattern>>, Vec<ContactPattern>, Option<Support>) + Sync);
+
+/// What a streamed search knows of an orbit, by its least contact set (as a whole pattern).
+#[derive(Clone, Copy, PartialEq)]
+enum Orbited {
+    /// Its first leaf is being decided.
+    Pending,
+    /// Handed on to the sink.
+    Streamed,
+    /// Not realised, undecided, or kept for the finishing step (grazing nodes).
+    Other,
+}
+
 struct Search<'a, 'b> {
     form: &'a Formulation<'b>,
     control: &'a Control<'a>,
@@ -80,6 +98,15 @@ struct Search<'a, 'b> {
     least_leaves: Mutex<HashMap<Vec<ContactPattern>, LeafOutcome>>,
     /// Leaves decided as images.
     mapped: AtomicU64,
+    /// Realised patterns found (for the progress line and [`PatternInfo::realised`]).
+    realised: AtomicU64,
+    /// A streamed search's sink (not in a certified or a sharded run), the group whose orbits
+    /// it hands on (that of the symmetries of the orbital branching), each orbit's state, and
+    /// the patterns handed on with an orbit's first leaf that were not that leaf's own.
+    stream: Option<OrbitSink<'a>>,
+    orbit_group: Group,
+    streamed_orbits: Mutex<HashMap<Vec<ContactPattern>, Orbited>>,
+    images: AtomicU64,
 }
 
 /// A leaf's realised pattern, none, or why it was not decided.
@@ -169,12 +196,17 @@ impl shard::Tree for Search<'_, '_> {
                 self.pruned_unpressed.fetch_add(1, Ordering::Relaxed);
                 return None;
             }
+            if let Some(stream) = self.stream {
+                self.stream_leaf(&contact, stream);
+                return None;
+            }
             match self.leaf(&contact) {
                 Ok(Some(leaf)) => {
                     if let Some(witness) = leaf.witness {
                         let mut known = self.witnesses.lock().expect("no panics while held");
                         known.insert(leaf.pattern.clone(), witness);
                     }
+                    self.realised.fetch_add(1, Ordering::Relaxed);
                     self.found
                         .lock()
                         .expect("no panics while held")
@@ -442,6 +474,66 @@ impl Search<'_, '_> {
         }))
     }
 
+    /// A streamed search's leaf ([`OrbitSink`]): the first leaf of an orbit (under
+    /// [`Search::orbit_group`]) decides the orbit's least contact set by its cone programs, as
+    /// [`Search::leaf`] does, and hands the whole orbit on at once when that pattern has no
+    /// grazing node; a pattern with grazing nodes may lie below another, so its orbit is kept
+    /// for the finishing step's maximal filter. A later leaf of the orbit has nothing to do.
+    /// Only the orbits' states are held, not their witnesses. Every realised pattern is in the
+    /// orbit of a leaf the search reaches (the regions that orbital branching skips hold
+    /// images of its contact children's patterns), and each orbit is handed on once.
+    fn stream_leaf(&self, contact: &[bool], stream: OrbitSink) {
+        let (least, by) = self
+            .orbit_group
+            .representative(&super::whole_pattern(contact));
+        {
+            let mut seen = self.streamed_orbits.lock().expect("no panics while held");
+            if seen.contains_key(&least) {
+                self.mapped.fetch_add(1, Ordering::Relaxed);
+                return;
+            }
+            seen.insert(least.clone(), Orbited::Pending);
+        }
+        if by.is_some() {
+            self.mapped.fetch_add(1, Ordering::Relaxed);
+        }
+        let mine: Vec<bool> = least
+            .iter()
+            .map(|&c| c == ContactPattern::Contact)
+            .collect();
+        let state = match leaf_pattern(self.form, &mine) {
+            Ok(Some(Leaf { pattern, witness })) => {
+                let members = self.orbit_group.orbit(&pattern);
+                let n = members.len() as u64;
+                self.realised.fetch_add(n, Ordering::Relaxed);
+                if pattern.contains(&ContactPattern::Grazing) {
+                    if let Some(w) = witness {
+                        let mut known = self.witnesses.lock().expect("no panics while held");
+                        known.insert(pattern, w);
+                    }
+                    let mut found = self.found.lock().expect("no panics while held");
+                    found.extend(members);
+                    Orbited::Other
+                } else {
+                    self.images.fetch_add(n - 1, Ordering::Relaxed);
+                    stream(members, pattern, witness);
+                    Orbited::Streamed
+                }
+            }
+            Ok(None) => Orbited::Other,
+            Err(reason) => {
+                let mut undecided = self.undecided.lock().expect("no panics while held");
+                undecided.push(Undecided {
+                    contact: mine,
+                    reason,
+                });
+                Orbited::Other
+            }
+        };
+        let mut seen = self.streamed_orbits.lock().expect("no panics while held");
+        seen.insert(least, state);
+    }
+
     /// Whether the linear program of a leaf (`conic::node_lp`, its contact nodes pressed; in 3D
     /// an outer relaxation) is infeasible: then no solution presses its whole contact set, and
     /// its pattern, if any, lies below the pattern found at the leaf of its pressed nodes. A
@@ -492,14 +584,19 @@ fn depth_3d(m: usize) -> usize {
 #[cfg(test)]
 static DEPTH: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(usize::MAX);
 
-/// Runs the search; progress is reported from the calling thread every 200 ms.
+/// Runs the search; progress is reported from the calling thread every 200 ms. With `stream`
+/// (not in a certified or a sharded run) the patterns without grazing nodes go to it as their
+/// orbits' first leaves are decided ([`OrbitSink`]), and the returned [`Found`] holds the
+/// others (with the streamed ones for the maximal filter, when there are others).
 pub(super) fn run(
     form: &Formulation,
     info: &mut PatternInfo,
     shard: Option<Shard>,
     progress: &dyn Fn(Progress),
     control: &Control,
+    stream: Option<OrbitSink>,
 ) -> Found {
+    let stream = stream.filter(|_| shard.is_none() && form.refutations.is_none());
     let search = Search {
         form,
         control,
@@ -534,6 +631,14 @@ pub(super) fn run(
         },
         least_leaves: Mutex::new(HashMap::new()),
         mapped: AtomicU64::new(0),
+        realised: AtomicU64::new(0),
+        stream,
+        orbit_group: match stream {
+            Some(_) => Group::new(form.problem.symmetries_with_signs()),
+            None => Group::default(),
+        },
+        streamed_orbits: Mutex::new(HashMap::new()),
+        images: AtomicU64::new(0),
     };
     let explored = Explored::new();
     let walk = Walk::new(&search, &explored);
@@ -541,7 +646,7 @@ pub(super) fn run(
         progress(Progress {
             done: explored.permille(),
             total: 1000,
-            rays: search.found.lock().map_or(0, |f| f.len()),
+            rays: search.realised.load(Ordering::Relaxed) as usize,
             nodes: search.visited.load(Ordering::Relaxed),
         });
     };
@@ -558,9 +663,26 @@ pub(super) fn run(
     let mut patterns = search.found.into_inner().unwrap_or_default();
     let orbits = search.orbits.into_inner().unwrap_or_default();
     info.mirrored = orbits.len() as u64;
-    info.images = orbits::add_images(&search.symmetries, orbits, &mut patterns);
+    let streamed = search.stream.is_some();
+    if streamed {
+        // The kept orbits (grazing nodes) are whole already; the streamed ones join them for
+        // the maximal filter, when there is anything to filter.
+        if !patterns.is_empty() {
+            let seen = search.streamed_orbits.into_inner().unwrap_or_default();
+            for (least, state) in seen {
+                if state == Orbited::Streamed {
+                    patterns.extend(search.orbit_group.orbit(&least));
+                }
+            }
+        }
+        info.images = search.images.into_inner();
+    } else {
+        info.images = orbits::add_images(&search.symmetries, orbits, &mut patterns);
+    }
+    info.realised = search.realised.into_inner();
     info.mapped = search.mapped.into_inner();
     Found {
+        streamed,
         patterns,
         undecided: search.undecided.into_inner().unwrap_or_default(),
         shard: split,

@@ -246,6 +246,9 @@ pub(crate) struct Found {
     /// Witnesses already made on the way ([`leaf::Leaf::witness`]), by pattern: the finishing step
     /// takes them instead of solving its program again.
     pub witnesses: HashMap<Vec<ContactPattern>, Support>,
+    /// Every realised pattern without grazing nodes has been handed on already (`bnb`'s
+    /// streamed search); `patterns` lists them only for the maximal filter of the others.
+    pub streamed: bool,
 }
 
 /// A pattern run's outcome (one run, the shards' merge, the groups' products): incomplete when
@@ -287,7 +290,10 @@ pub type PatternSink<'a> = &'a (dyn Fn(Pattern) + Sync);
 /// to `sink` instead of keeping it: [`Patterns::patterns`] is then empty and
 /// [`PatternInfo::streamed`] counts them. `pattern-search` hands each one on as soon as its
 /// leaf is decided (each leaf is tested for maximality on its own, see `search.rs`), in the
-/// order found, so memory does not grow with the number of pieces; the other methods find
+/// order found, so memory does not grow with the number of pieces; `bnb` (not sharded) hands
+/// on each orbit of patterns without grazing nodes as the search meets its first leaf
+/// (`bnb.rs`, `Search::stream_leaf`), holding each orbit's state only, and the others at the
+/// end; the other methods find
 /// their maximal patterns at the end and hand them on then, sorted, as their witnesses are
 /// made a chunk at a time (the realised patterns and the orbits' least witnesses are held
 /// until then, not every witnessed pattern). A run that stops early has
@@ -386,6 +392,48 @@ fn run(
     let kept = std::sync::Mutex::new((Vec::new(), HashMap::new()));
     let streamed = AtomicU64::new(0);
     let unfinished = std::sync::Mutex::new(Vec::new());
+    // In 3D (a clamped body) the patterns of one orbit of the problem's symmetries share the
+    // witness of the orbit's least pattern, mapped (`orbits::Group`): one cone program an orbit.
+    let group = orbits::Group::of(&form);
+    let map_witness = |q: &[ContactPattern], k: usize, (_, least): &(Pattern, Pattern)| {
+        let (r, status) = (
+            group.map_point(k, &least.r),
+            group.map_nodes(k, &least.status),
+        );
+        let u = form.problem.displacement(&r);
+        check_witness(&form, q, &status, &u, &r)?;
+        let pattern = q.to_vec();
+        in_units(Pattern {
+            pattern,
+            status,
+            u,
+            r,
+            ..least.clone()
+        })
+    };
+    // bnb's streamed search hands on each orbit of patterns without grazing nodes as its first
+    // leaf is decided: witnessed by orbit as below and handed to the sink at once.
+    let stream_mapped = AtomicU64::new(0);
+    let emit_orbit = |members: Vec<Vec<ContactPattern>>,
+                      least: Vec<ContactPattern>,
+                      witness: Option<Support>| {
+        let Some(sink) = sink else { return };
+        let known = |q: &[ContactPattern]| witness.as_ref().filter(|_| q == least);
+        let finish_one = |q: &[ContactPattern]| finish_checked(q, known(q));
+        let n = orbits::finish_by_orbits(&group, &members, false, finish_one, map_witness, {
+            |q, finished| match finished {
+                Ok((p, _)) => {
+                    streamed.fetch_add(1, Ordering::Relaxed);
+                    sink(p)
+                }
+                Err(reason) => unfinished
+                    .lock()
+                    .expect("no panics while held")
+                    .push(failed(q, reason)),
+            }
+        });
+        stream_mapped.fetch_add(n, Ordering::Relaxed);
+    };
     let emit = |q: Vec<ContactPattern>, witness: Option<Support>| match sink {
         None => {
             let mut kept = kept.lock().expect("no panics while held");
@@ -409,7 +457,10 @@ fn run(
         Found::default()
     } else {
         match settings.method {
-            PatternMethod::Bnb => bnb::run(&form, &mut info, settings.shard, progress, &control),
+            PatternMethod::Bnb => {
+                let stream = sink.is_some().then_some(&emit_orbit as bnb::OrbitSink);
+                bnb::run(&form, &mut info, settings.shard, progress, &control, stream)
+            }
             PatternMethod::Faces => faces::run(&form, &mut info, &control),
             PatternMethod::Search => {
                 let mut found =
@@ -439,27 +490,11 @@ fn run(
     let mut undecided = found.undecided;
     undecided.extend(unfinished.into_inner().unwrap_or_default());
     // Each witness is one cone program: they run in parallel (in order; one at a time with
-    // --certify, whose refutations are recorded as they are made). In 3D (a clamped body) the
-    // patterns of one orbit of the problem's symmetries share the witness of the orbit's least
-    // pattern, mapped (`orbits::Group`): one cone program an orbit.
-    let group = orbits::Group::of(&form);
-    let pieces = maximal(found.patterns);
-    let mapped = |q: &[ContactPattern], k: usize, (_, least): &(Pattern, Pattern)| {
-        let (r, status) = (
-            group.map_point(k, &least.r),
-            group.map_nodes(k, &least.status),
-        );
-        let u = form.problem.displacement(&r);
-        check_witness(&form, q, &status, &u, &r)?;
-        let pattern = q.to_vec();
-        in_units(Pattern {
-            pattern,
-            status,
-            u,
-            r,
-            ..least.clone()
-        })
-    };
+    // --certify, whose refutations are recorded as they are made), by orbit (`group` above).
+    let mut pieces = maximal(found.patterns);
+    if found.streamed {
+        pieces.retain(|q| q.contains(&ContactPattern::Grazing));
+    }
     // The answers in the order of `pieces` (sorted by pattern, as `maximal` leaves them), a
     // chunk at a time: kept, or handed to the sink at once.
     let mapped = orbits::finish_by_orbits(
@@ -467,7 +502,7 @@ fn run(
         &pieces,
         settings.certify,
         |q| finish_checked(q, known.get(q)),
-        mapped,
+        map_witness,
         |q, finished| match finished {
             Ok((p, s)) => {
                 if settings.certify {
@@ -484,7 +519,7 @@ fn run(
             Err(reason) => undecided.push(failed(q, reason)),
         },
     );
-    info.mapped += mapped;
+    info.mapped += mapped + stream_mapped.into_inner();
     patterns.sort_by(|a, b| a.pattern.cmp(&b.pattern));
     info.streamed = streamed.into_inner();
     let c = &form.counters;

@@ -167,6 +167,15 @@ impl Group {
         (least, by)
     }
 
+    /// The orbit of `q`: `q` and its images under every element, sorted, each once.
+    pub fn orbit(&self, q: &[ContactPattern]) -> Vec<Vec<ContactPattern>> {
+        let mut all = vec![q.to_vec()];
+        all.extend(self.elements.iter().map(|(s, _)| image(s, q)));
+        all.sort();
+        all.dedup();
+        all
+    }
+
     /// The image of a point (`dim` components per node) under element `k`.
     pub fn map_point(&self, k: usize, x: &[f64]) -> Vec<f64> {
         let (s, sign) = &self.elements[k];

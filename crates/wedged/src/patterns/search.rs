@@ -183,6 +183,6 @@ pub(super) fn run(
         patterns: leaves.into_inner().unwrap_or_default(),
         undecided,
         shard: tree.shard,
-        witnesses: Default::default(),
+        ..Found::default()
     }
 }
