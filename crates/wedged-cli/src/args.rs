@@ -331,7 +331,7 @@ pub(crate) struct MergeArgs {
 
 #[derive(Debug, Args)]
 pub(crate) struct CondenseArgs {
-    /// The problem file (TOML with a [mesh]; see --help).
+    /// The problem file (TOML with a mesh table; see --help).
     pub(crate) problem: PathBuf,
     /// Write the condensed stiffness here (Matrix Market, coordinate real symmetric; written
     /// atomically). Its comment lines name each contact node's mesh node and frame.

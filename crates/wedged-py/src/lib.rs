@@ -3,12 +3,12 @@
 //! Thin by design: it turns NumPy arrays into the library's matrices, runs the same jobs as
 //! the command (`wedged_cli::jobs`: options checked, the run, errors sorted into bad input and
 //! internal failures) and hands back the command's report: for an enumeration its parts as
-//! arrays taken from the report the JSON is written from ([`EnumerationRun`], the JSON itself
+//! arrays taken from the report the JSON is written from (`EnumerationRun`, the JSON itself
 //! on demand), for `critical` its JSON document (one witness: small). So the library, the
 //! command and Python give the same answer, number for number.
 //!
 //! Every run leaves the GIL to a worker thread and polls Python's signals every
-//! [`POLL`]: Ctrl-C sets the run's cancel flag, waits for it to stop, and raises
+//! `POLL`: Ctrl-C sets the run's cancel flag, waits for it to stop, and raises
 //! `KeyboardInterrupt`.
 
 use std::collections::HashMap;

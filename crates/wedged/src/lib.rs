@@ -2,7 +2,7 @@
 //!
 //! Every wedged configuration of a linear elastic body in frictional contact with a rigid
 //! obstacle ([`enumerate`] in 2D, [`enumerate_patterns`] in 2D and 3D), and the critical
-//! friction coefficient below which none exists ([`critical`]).
+//! friction coefficient below which none exists ([`critical()`]).
 //!
 //! The condensed wedged problem (WP), with `K` symmetric positive definite in local node frames
 //! (normal first) and `mu > 0`:

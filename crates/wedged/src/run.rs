@@ -1,4 +1,4 @@
-//! What every algorithm's run shares: its [`Limits`], the [`Control`] it polls between units
+//! What every algorithm's run shares: its [`Limits`], the `Control` it polls between units
 //! of work (time, memory, the caller's cancel flag), why it stopped ([`Stop`]), how it ended
 //! ([`Outcome`]), and the one [`Error`] type, which keeps bad input (the caller's to fix: exit
 //! code 2 in the CLI) apart from internal failures (a failed check of the library's own: a bug,
@@ -19,7 +19,7 @@ pub struct Limits {
     /// Most wall-clock time.
     pub time_limit: Option<Duration>,
     /// Most bytes for the rays held at once (double description's ray store, the part of
-    /// memory that grows; see [`Info::peak_bytes`]).
+    /// memory that grows; see [`crate::Info::peak_bytes`]).
     pub max_memory: Option<u64>,
 }
 

@@ -22,9 +22,9 @@
 //!
 //! **One split per process.** A process that runs several shards of the same tree one after
 //! the other (a Dask worker, which runs task after task in one process) walks the top once:
-//! the last split is kept ([`Tree::split_key`] names what it depends on) and the next shard of
+//! the last split is kept (`Tree::split_key` names what it depends on) and the next shard of
 //! the same tree starts from its units. A split is kept only when its walks raised no alarm
-//! ([`Tree::alarms`]: an undecided program, a doubt, a stop), so a reused split reports the
+//! (`Tree::alarms`: an undecided program, a doubt, a stop), so a reused split reports the
 //! same as one walked again.
 //!
 //! Without a shard (or with `1/1`) the search is the plain depth-first one, the two children of
@@ -42,7 +42,7 @@ use std::sync::Mutex;
 pub const UNITS_PER_SHARD: usize = 32;
 
 /// The least units per shard at which a split may stop deepening when the open nodes stop
-/// growing ([`PLATEAU`]).
+/// growing (`PLATEAU`).
 pub const MIN_UNITS_PER_SHARD: usize = 4;
 
 /// Deepening stops (with at least [`MIN_UNITS_PER_SHARD`] units per shard) when the open nodes
@@ -129,7 +129,7 @@ pub struct ShardReport {
     /// Of those, this shard's.
     pub own_units: usize,
     /// Search nodes this shard decided to find the split (the top of the tree, every shard's
-    /// work: the nodes above [`Tree::keep_depth`] once, the deeper ones again at each
+    /// work: the nodes above `Tree::keep_depth` once, the deeper ones again at each
     /// deepening).
     pub split_nodes: u64,
 }

@@ -1,7 +1,7 @@
 //! The vocabulary of solutions, shared by every method: the status of a node in one solution
 //! ([`NodeStatus`]), the pattern of a node over a convex piece ([`ContactPattern`]), a 2D extreme
 //! ray ([`Ray`]), a maximal set of cross-complementary rays ([`Cone`]), how such sets are formed
-//! from statuses ([`pieces`], [`piece_patterns`]), and the one check of a solution against WP
+//! from statuses (`pieces`, `piece_patterns`), and the one check of a solution against WP
 //! ([`check_solution`]).
 
 use crate::cliques::maximal_cliques;
@@ -108,7 +108,7 @@ pub struct Ray {
 /// solution, with the same contact pattern.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Cone {
-    /// Indices into [`Enumeration::rays`], increasing.
+    /// Indices into [`crate::Enumeration::rays`], increasing.
     pub rays: Vec<usize>,
     /// Per-node pattern of the piece.
     pub pattern: Vec<ContactPattern>,

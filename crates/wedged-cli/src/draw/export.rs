@@ -56,7 +56,7 @@ fn is_piece_file(name: &str, extension: &str) -> bool {
         .is_some_and(|digits| !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()))
 }
 
-/// The collection file of `--vtk` ([`write_collection`]).
+/// The collection file of `--vtk` ([`collection`]).
 pub const COLLECTION: &str = "pieces.pvd";
 
 /// Writes the files of every piece (cone or pattern) and, with `vtk`, their collection;

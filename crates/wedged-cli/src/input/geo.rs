@@ -22,7 +22,7 @@
 //! `size_factor = F` in `[mesh]` multiplies every mesh size of the script by `F` (`-clscale`,
 //! Gmsh's `Mesh.MeshSizeFactor`, read back like a parameter): any script's mesh made coarser or
 //! finer without a parameter of its own for it. `critical`'s coarser start doubles it
-//! ([`crate::coarse`]), and `study --vary refine=1,2,4` divides it.
+//! (`input/start.rs`), and `study --vary refine=1,2,4` divides it.
 //!
 //! The mesh is then read as any MSH file ([`super::msh`]).
 

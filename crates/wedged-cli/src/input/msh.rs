@@ -28,7 +28,7 @@
 //!
 //! An MSH 2.2 file (Gmsh's `-format msh22`, still the default of many tools) has no entities:
 //! each element carries its physical tag, and an element of several physical groups is written
-//! once per group. It is read here ([`v2`]) into the same [`Mesh`]: the same nodes and groups as
+//! once per group. It is read here (`v2`) into the same [`Mesh`]: the same nodes and groups as
 //! the MSH 4.1 file of the same model, each body element once.
 
 use std::collections::{BTreeMap, HashMap};

@@ -102,7 +102,7 @@ pub struct Report<'a> {
 }
 
 /// How a shard's search was split ([`wedged::ShardReport`]), the command (`enumerate` or
-/// `critical`), and the run's fingerprint ([`Choice::fingerprint`], [`fingerprint`]), which
+/// `critical`), and the run's fingerprint ([`Choice::fingerprint`], [`super::answer::fingerprint`]), which
 /// every part of one run shares.
 #[derive(Debug, Serialize)]
 pub struct ShardJson {

@@ -2,7 +2,7 @@
 //! or maximal sign patterns (pattern methods), diagnostics.
 //!
 //! Ray, cone and pattern indices are 0-based, as in the JSON; nodes are numbered from 1, as in
-//! the library's error messages. In the ray table, up to [`FULL_NAMES_UP_TO`] nodes the statuses
+//! the library's error messages. In the ray table, up to `FULL_NAMES_UP_TO` nodes the statuses
 //! are spelt out in columns; beyond, and always in the pattern table, each node is one
 //! character, in groups of ten.
 

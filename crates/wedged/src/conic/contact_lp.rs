@@ -39,7 +39,7 @@ impl<'f> ContactLp<'f> {
     }
 
     /// The support of the cone of `classes` (no normalisation): which of the friction edges
-    /// `a_i`, `b_i` of the nodes with a reaction ([`Edge`]) and which gaps of the separated and
+    /// `a_i`, `b_i` of the nodes with a reaction (`Edge`) and which gaps of the separated and
     /// free nodes some solution makes positive. `Ok(None)` when the cone is `{0}`; `Err` when the
     /// simplex method cannot decide.
     ///

@@ -41,7 +41,7 @@
 //!
 //! The cuts are checked in floating point only (the solver's optima behind them are), so a
 //! certified run (`--certify`) does not use them: its every prune is a plain refutation that
-//! is checked exactly (see [`super::certify`]).
+//! is checked exactly (see [`crate::critical::certify`]).
 
 use rayon::prelude::*;
 
@@ -163,7 +163,7 @@ pub(crate) fn largest_shrink(old: &[(f64, f64)], new: &[(f64, f64)]) -> f64 {
 /// relaxation at a finite `mu` with `sum r_n = 1` and the cuts of `drive`, intersected with
 /// `drive`. `minimise(key, fixed, objective)` solves the relaxation of the classes `fixed`
 /// (`classes` with `j` fixed) with a linear objective over the reaction components, by
-/// Clarabel ([`clarabel_relaxation`]) or by the simplex method ([`super::node_lp`]); `key`
+/// Clarabel (`clarabel_relaxation`, in the tests) or by the simplex method ([`super::node_lp`]); `key`
 /// names the program (`2 j` the least drive of node `j`, `2 j + 1` the greatest), so that a
 /// solver may start each from where the same program ended before. `None` when both of a
 /// node's programs are infeasible (certified by the solver: the subtree has no solution at

@@ -1,5 +1,5 @@
 //! The wedged problem with some nodes' contact status fixed, as a conic program for
-//! [`crate::socp`], and the decisions taken from its answer.
+//! [`crate::conic::socp`], and the decisions taken from its answer.
 //!
 //! The unknowns are the reactions `r` of the nodes whose reaction may be nonzero; `u = K^{-1} r`
 //! is eliminated. Each gap row `u_n_i` is divided by the largest entry of its compliance row, so
@@ -23,7 +23,7 @@ mod support;
 
 /// An entry is positive when it can reach this value, with `sum r_n = 1` and gaps scaled as in
 /// the module docs. Below it an entry counts as zero: the resolution of the method, a hundred
-/// times the solver's accuracy (about `1e-9` after the checks of [`crate::socp`]).
+/// times the solver's accuracy (about `1e-9` after the checks of [`crate::conic::socp`]).
 pub const POSITIVE: f64 = 1e-7;
 
 /// A scaled gap row's entries (each row's largest is 1) at most this are round-off of the

@@ -4,7 +4,7 @@
 //! **Why in-house.** A branch-and-bound child differs from its parent by a few bounds, and a
 //! bound-tightening program by its objective: from the parent's optimal basis the dual (or
 //! primal) simplex method needs a handful of pivots, where an interior-point solver
-//! ([`crate::socp`], Clarabel) starts over every time (about 6 ms a program at m = 40). No
+//! ([`crate::conic::socp`], Clarabel) starts over every time (about 6 ms a program at m = 40). No
 //! pure-Rust crate offers warm starts across bound changes *and* the Farkas ray of an
 //! infeasible program (`microlp` can fix variables and add rows, but gives no certificate and
 //! cannot change the objective; HiGHS needs a C++ build). The programs are small and dense
@@ -33,7 +33,7 @@
 //! the search's time), and the dense kernels run as compiled for AVX2 where the processor has
 //! it (`dense`).
 //!
-//! **Checked answers.** As in [`crate::socp`], nothing is returned unchecked:
+//! **Checked answers.** As in [`crate::conic::socp`], nothing is returned unchecked:
 //! - `Optimal`: the row activities are recomputed as `A x` and every bound must hold within
 //!   [`TOL`] of the terms that add up to it (plus [`TOL`] absolute); the reduced costs were
 //!   within [`TOL`] of their signs at the last step.

@@ -1,7 +1,7 @@
 //! Exact certification of a critical friction coefficient (`--certify`).
 //!
 //! A run with [`super::CriticalSettings::certify`] keeps every infeasibility the solver proved
-//! on the way ([`Refutation`]: the classes of a program, its `mu`, its normalisation and the
+//! on the way (`Refutation`: the classes of a program, its `mu`, its normalisation and the
 //! certificate's multipliers `z` of the gap rows). Afterwards, in exact rational arithmetic,
 //! with every `f64` of `K` and `mu` taken as the exact rational it represents:
 //!

@@ -4,7 +4,7 @@
 //! `upper` comes with a witness: a solution of WP at `mu = upper`, checked here against WP.
 //! `lower` is justified by certificates: every part of the search space was shown infeasible at
 //! some friction coefficient `>= lower` by a checked Farkas certificate of the conic solver
-//! ([`crate::socp`]). Feasibility is monotone in `mu` (the friction cones only grow), so one
+//! (`conic/socp.rs`). Feasibility is monotone in `mu` (the friction cones only grow), so one
 //! certificate at `mu` covers every smaller `mu`.
 //!
 //! Every nontrivial solution `(u, r)` has a *contact set* `A` (its pressed nodes) and lies in the
@@ -22,7 +22,7 @@
 //! (`w` the pressures of that point); the optimum's ratio is the next `theta`. Where the
 //! pressures stay away from zero it converges superlinearly (their analysis); where it stalls
 //! (a node whose pressure vanishes at the optimum), probes below `theta` and then bisection take
-//! over ([`Ctx::leaf_threshold`]). Each point is made an exact solution of the leaf (projected
+//! over (`Ctx::leaf_threshold`). Each point is made an exact solution of the leaf (projected
 //! onto its equalities) before its ratio is taken, so `upper` is the ratio of an actual
 //! solution. Every probe found infeasible carries a checked Farkas certificate. Once the
 //! descent stalls, `polish.rs` locates the threshold more closely from the tight constraints of

@@ -14,7 +14,7 @@ pub struct CriticalProgress {
     /// `min(bar, best (1 - tol))`).
     pub bar: Option<f64>,
     /// `bnb`: the lower end proved by the passes finished so far (`mu*` lies above it), as an
-    /// incomplete run reports it ([`Critical::lower`]).
+    /// incomplete run reports it ([`super::Critical::lower`]).
     pub lower: Option<f64>,
     /// `bnb` on a large problem: `Some(n)` while the run looks for its start on the problem
     /// condensed onto `n` nodes (the other fields are then that run's, on the condensed

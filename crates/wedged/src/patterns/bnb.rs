@@ -567,7 +567,7 @@ impl Search<'_, '_> {
 }
 
 /// The depth down to which a 3D search tightens ([`crate::conic::cuts::enumeration_depth_3d`],
-/// or a test's [`DEPTH`]).
+/// or a test's `DEPTH`).
 fn depth_3d(m: usize) -> usize {
     #[cfg(test)]
     {

@@ -19,10 +19,10 @@
 //! 2. **Every realised pattern lies below a leaf of the search.** A realised pattern `q` with
 //!    contact set `A` is a solution of every relaxation on the way to the leaf `A`, pressing its
 //!    contact nodes. So every decision that cut the search short is backed by an infeasibility
-//!    ([`super::program::Refutation`], re-checked by `critical::certify`): a pruned subtree has no
+//!    ([`crate::conic::program::Refutation`], re-checked by `critical::certify`): a pruned subtree has no
 //!    nontrivial solution, or none pressing all its contact nodes; at a leaf, every pressure or
 //!    gap left out of its pattern is zero in every solution. A decision that the solver would not
-//!    back with a certificate is a failure ([`super::program::Formulation::confirm`]).
+//!    back with a certificate is a failure ([`crate::conic::program::Formulation::confirm`]).
 //! 3. **The reported patterns are the maximal ones among the leaves' patterns**, which is plain
 //!    comparison of sign vectors and is not redone.
 //!

@@ -20,7 +20,7 @@
 //! - [`PatternMethod::Faces`] (`faces.rs`): brute force over the `2^m` contact sets, each entry
 //!   maximised on its own; a test baseline.
 //!
-//! All conic programs go through [`crate::socp`], which returns checked answers or says it is
+//! All conic programs go through `conic/socp.rs`, which returns checked answers or says it is
 //! unsure. Every reported witness is checked again here against WP itself.
 
 mod bnb;

@@ -1,5 +1,5 @@
 //! A 2D ray of `C` from its status vector, in exact arithmetic: the problem's data as
-//! rationals ([`ExactProblem`], inequality rows as primitive integer rows), and the ray that a
+//! rationals (`ExactProblem`, inequality rows as primitive integer rows), and the ray that a
 //! status determines, with the checks 1 to 4 of [`super::certify`] ([`exact_ray_of_status`]).
 //! Shared by the certificate and the exact enumeration.
 

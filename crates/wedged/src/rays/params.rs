@@ -140,7 +140,7 @@ pub struct Info {
     pub seconds: f64,
 }
 
-/// The result of [`enumerate`].
+/// The result of [`crate::enumerate`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Enumeration {
     /// Whether wedged configurations exist.

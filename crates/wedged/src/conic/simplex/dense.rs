@@ -4,7 +4,7 @@
 //!
 //! The kernels that the simplex method spends its time in (a pivot's update of the inverse,
 //! `v^T A`, products with the inverse, dot products) are compiled for AVX2 as well, and that
-//! version runs when the processor has it ([`kernel!`]): a default x86-64 build vectorises
+//! version runs when the processor has it (`kernel!`): a default x86-64 build vectorises
 //! them two values wide, AVX2 four. (On the 2D plug, `critical`, whole process: m = 60 paired
 //! 0.92; see `BENCHMARKS.md`. AVX-512 was no faster there: 1.07 against AVX2.)
 

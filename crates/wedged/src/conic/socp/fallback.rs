@@ -4,7 +4,7 @@ use super::{Answer, Form, Kind};
 use crate::conic::simplex;
 
 /// A linear program (no cone constraint) that Clarabel could not decide, by the in-house
-/// simplex method ([`super::simplex`]), which needs no interior (the programs of a floating
+/// simplex method ([`crate::conic::simplex`]), which needs no interior (the programs of a floating
 /// body pinned between its walls often have none). Its answers are checked in its own form: an
 /// optimum's bounds against recomputed activities, an infeasibility by its certificate. The
 /// certificate is not returned (its multipliers are in the simplex method's form): an

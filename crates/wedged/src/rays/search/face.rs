@@ -2,7 +2,7 @@
 //!
 //! A leaf of the search fixes every node: contact (`u_n = 0`, friction edges `a_i, b_i >= 0`)
 //! or separated (`r = 0`, `u_n >= 0`). Its face is a cone in the friction edges of the contact
-//! nodes. The support program ([`ContactLp::support`]) tells which edges and which gaps some
+//! nodes. The support program ([`crate::conic::contact_lp::ContactLp::support`]) tells which edges and which gaps some
 //! solution makes positive; every other one is zero throughout the face, an equality. So the
 //! face is `{ x : E x = 0, B x >= 0 }` with `E` the contact gaps and the entries that are always
 //! zero, `B` the entries that are not. With `N` a basis of the null space of `E` (`k`

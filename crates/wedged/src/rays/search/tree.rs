@@ -14,7 +14,7 @@
 //! **Drive cuts.** The relaxation lets a free node press with its gap open, and dead subtrees
 //! (relaxation feasible, no complementary solution below) were 95% of the tree. Nodes near the
 //! root (depth below [`tighten_depth`]) bound each free node's drive over their relaxation
-//! ([`cuts::tighten`]) and every program below carries the cuts those bounds give: a node that
+//! ([`crate::conic::cuts::tighten`]) and every program below carries the cuts those bounds give: a node that
 //! presses must not be driven open. The cuts hold for every solution of the subtree, so a
 //! leaf's program is unchanged (a leaf has no free node, and its cuts are free rows) and a
 //! prune still means that no solution presses the contact nodes at once. On issue 20's plug at
@@ -47,7 +47,7 @@ use crate::shard::{self, Explored, Shard, ShardReport, Walk};
 const INHERIT_ZERO: f64 = 1e-9;
 
 /// Search nodes at depths below [`tighten_depth`], `max(TIGHTEN_DEPTH, (m - 20) / 20)`, bound
-/// the drives of their free nodes ([`cuts::tighten`], two programs per free node) and hand the
+/// the drives of their free nodes ([`crate::conic::cuts::tighten`], two programs per free node) and hand the
 /// cuts down to their subtrees; from [`SETTLE_FROM`] nodes on, the root settles its bounds
 /// ([`node_lp::tighten_node`]). Deeper tightening visits fewer nodes but solves more programs.
 /// (Measured on issue 20's plug, whole process, 2 threads: m = 40, depths 3, 4, 6, 8: 1.1,
