@@ -411,6 +411,19 @@ fn run(
             ..least.clone()
         })
     };
+    // A pattern finished as it was found: to the sink, or listed as undecided.
+    let hand_on =
+        |sink: PatternSink, q: &[ContactPattern], finished: Result<(Pattern, _), _>| match finished
+        {
+            Ok((p, _)) => {
+                streamed.fetch_add(1, Ordering::Relaxed);
+                sink(p)
+            }
+            Err(reason) => unfinished
+                .lock()
+                .expect("no panics while held")
+                .push(failed(q, reason)),
+        };
     // bnb's streamed search hands on each orbit of patterns without grazing nodes as its first
     // leaf is decided: witnessed by orbit as below and handed to the sink at once.
     let stream_mapped = AtomicU64::new(0);
@@ -421,16 +434,7 @@ fn run(
         let known = |q: &[ContactPattern]| witness.as_ref().filter(|_| q == least);
         let finish_one = |q: &[ContactPattern]| finish_checked(q, known(q));
         let n = orbits::finish_by_orbits(&group, &members, false, finish_one, map_witness, {
-            |q, finished| match finished {
-                Ok((p, _)) => {
-                    streamed.fetch_add(1, Ordering::Relaxed);
-                    sink(p)
-                }
-                Err(reason) => unfinished
-                    .lock()
-                    .expect("no panics while held")
-                    .push(failed(q, reason)),
-            }
+            |q, finished| hand_on(sink, q, finished)
         });
         stream_mapped.fetch_add(n, Ordering::Relaxed);
     };
@@ -442,16 +446,7 @@ fn run(
             }
             kept.0.push(q)
         }
-        Some(sink) => match finish_checked(&q, witness.as_ref()) {
-            Ok((p, _)) => {
-                streamed.fetch_add(1, Ordering::Relaxed);
-                sink(p)
-            }
-            Err(reason) => unfinished
-                .lock()
-                .expect("no panics while held")
-                .push(failed(&q, reason)),
-        },
+        Some(sink) => hand_on(sink, &q, finish_checked(&q, witness.as_ref())),
     };
     let found = if control.must_stop(0) {
         Found::default()
