@@ -31,7 +31,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use super::leaf::Leaf;
-use super::orbits::{self, Group, Orbit};
+use super::orbits::Group;
 use super::{leaf_pattern, Found, PatternInfo, Undecided};
 use crate::conic::cuts::Drive;
 use crate::conic::node_lp::{self as lp, LpCounters, Shape, Warm};
@@ -89,7 +89,7 @@ struct Search<'a, 'b> {
     /// certified or a sharded run (a skipped region's images come from another subtree).
     symmetries: Vec<Vec<usize>>,
     /// The branchings that skipped a region.
-    orbits: Mutex<Vec<Orbit>>,
+    mirrored: AtomicU64,
     /// The group by whose orbits the finishing step maps witnesses ([`orbits::Group::of`]),
     /// for the leaves ([`Search::leaf`]); empty in a certified run.
     group: Group,
@@ -100,8 +100,9 @@ struct Search<'a, 'b> {
     mapped: AtomicU64,
     /// Realised patterns found (for the progress line and [`PatternInfo::realised`]).
     realised: AtomicU64,
-    /// A streamed search's sink (not in a certified or a sharded run), the group whose orbits
-    /// it hands on (that of the symmetries of the orbital branching), each orbit's state, and
+    /// A streamed search's sink (not in a certified or a sharded run), the group of the
+    /// symmetries of the orbital branching (whose orbits a streamed search hands on, and by
+    /// which a kept one completes its patterns at the end), each streamed orbit's state, and
     /// the patterns handed on with an orbit's first leaf that were not that leaf's own.
     stream: Option<OrbitSink<'a>>,
     orbit_group: Group,
@@ -373,8 +374,9 @@ impl shard::Tree for Search<'_, '_> {
             None => (None, None),
         };
         // Orbital branching ([`super::orbits`]): where a symmetry keeps the classes, the
-        // separated child separates the branch node's image too, and the patterns it skips
-        // are made after the search as images of the contact child's.
+        // separated child separates the branch node's image too; the patterns it skips are
+        // images of the contact child's, made from the patterns found by the group's orbits
+        // (with each orbit's first leaf when streamed, else after the search).
         let images: Vec<usize> = (0..self.symmetries.len())
             .filter(|&k| {
                 let s = &self.symmetries[k];
@@ -391,15 +393,7 @@ impl shard::Tree for Search<'_, '_> {
             }
             to_separated = None;
             if !rehearsal {
-                self.orbits
-                    .lock()
-                    .expect("no panics while held")
-                    .push(Orbit {
-                        depth,
-                        classes,
-                        branch,
-                        symmetries: images,
-                    });
+                self.mirrored.fetch_add(1, Ordering::Relaxed);
             }
         }
         Some((
@@ -597,6 +591,12 @@ pub(super) fn run(
     stream: Option<OrbitSink>,
 ) -> Found {
     let stream = stream.filter(|_| shard.is_none() && form.refutations.is_none());
+    // The symmetries of the orbital branching (none in a certified or a sharded run).
+    let orbit_generators = if form.refutations.is_none() && shard.is_none() {
+        form.problem.symmetries_with_signs()
+    } else {
+        Vec::new()
+    };
     let search = Search {
         form,
         control,
@@ -619,12 +619,8 @@ pub(super) fn run(
             0
         },
         tightened: AtomicU64::new(0),
-        symmetries: if form.refutations.is_none() && shard.is_none() {
-            form.problem.symmetries()
-        } else {
-            Vec::new()
-        },
-        orbits: Mutex::new(Vec::new()),
+        symmetries: orbit_generators.iter().map(|(s, _)| s.clone()).collect(),
+        mirrored: AtomicU64::new(0),
         group: match form.refutations.is_none() {
             true => Group::of(form),
             false => Group::default(),
@@ -633,10 +629,7 @@ pub(super) fn run(
         mapped: AtomicU64::new(0),
         realised: AtomicU64::new(0),
         stream,
-        orbit_group: match stream {
-            Some(_) => Group::new(form.problem.symmetries_with_signs()),
-            None => Group::default(),
-        },
+        orbit_group: Group::new(orbit_generators),
         streamed_orbits: Mutex::new(HashMap::new()),
         images: AtomicU64::new(0),
     };
@@ -661,8 +654,7 @@ pub(super) fn run(
     info.lp_pivots = search.lp.pivots.into_inner();
     info.lp_fallbacks = search.lp.fallbacks.into_inner();
     let mut patterns = search.found.into_inner().unwrap_or_default();
-    let orbits = search.orbits.into_inner().unwrap_or_default();
-    info.mirrored = orbits.len() as u64;
+    info.mirrored = search.mirrored.into_inner();
     let streamed = search.stream.is_some();
     if streamed {
         // The kept orbits (grazing nodes) are whole already; the streamed ones join them for
@@ -677,7 +669,7 @@ pub(super) fn run(
         }
         info.images = search.images.into_inner();
     } else {
-        info.images = orbits::add_images(&search.symmetries, orbits, &mut patterns);
+        info.images = search.orbit_group.complete(&mut patterns);
     }
     info.realised = search.realised.into_inner();
     info.mapped = search.mapped.into_inner();

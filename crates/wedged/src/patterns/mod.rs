@@ -204,8 +204,8 @@ pub struct PatternInfo {
     pub lp_pivots: u64,
     pub lp_fallbacks: u64,
     /// `bnb`'s branchings that separated a node's mirror image too (orbital branching, see
-    /// [`crate::Problem::symmetries`]), and the patterns made as images for the regions they
-    /// skipped.
+    /// [`crate::Problem::symmetries`]), and the patterns made as images of those found (the
+    /// patterns of the regions they skipped; `patterns/orbits.rs`, `Group::complete`).
     pub mirrored: u64,
     pub images: u64,
     /// 3D: leaves decided and witnesses made as images of their orbits' least pattern's,

@@ -8,10 +8,13 @@
 //! makes the usual contact child (`j` in contact) and a separated child that separates `s(j)`
 //! too, for every symmetry `s` that keeps the classes (as `critical`'s `bnb` does). The region
 //! skipped, `j` separated with some `s(j)` in contact, holds exactly the images `s(q)` of the
-//! patterns `q` of the contact child with `s(j)` not in contact. [`Orbit`] records such a
-//! branching; [`add_images`] adds those images after the search, the deepest branchings first,
-//! so that a branching's contact child is complete (its own skipped regions filled) before it
-//! is mapped.
+//! patterns `q` of the contact child with `s(j)` not in contact. The realised patterns are
+//! closed under the group the symmetries generate ([`Group`]), so the patterns found at the
+//! leaves and their images under the group are all of them: a kept search completes its
+//! patterns so after it ends ([`Group::complete`]), a streamed one hands on each orbit whole
+//! when its first leaf is decided (`bnb.rs`). (Until 2026-12-01 the kept search recorded each
+//! branching that skipped a region and mapped its contact child's patterns, the deepest
+//! branchings first; the group's orbits give the same patterns with one mechanism for both.)
 //!
 //! **Witnesses by orbit.** In 3D (a clamped body) the finishing step solves one cone program
 //! per orbit of maximal patterns under the group the symmetries generate ([`Group`]): the
@@ -24,32 +27,8 @@
 
 use rayon::prelude::*;
 
-use crate::conic::program::{Class, Formulation};
+use crate::conic::program::Formulation;
 use crate::solution::ContactPattern;
-
-/// A branching that skipped a region ([`add_images`]).
-#[derive(Debug, Clone)]
-pub(super) struct Orbit {
-    /// Its depth in the search tree.
-    pub depth: usize,
-    /// The classes of the search node (before the branching).
-    pub classes: Vec<Class>,
-    /// The node branched on.
-    pub branch: usize,
-    /// The symmetries (indices into the search's list) that kept the classes and moved
-    /// `branch`.
-    pub symmetries: Vec<usize>,
-}
-
-/// Whether the realised pattern `q` of a leaf lies in the subtree of a node of `classes` (a
-/// leaf's pattern has its contact set in contact, every other node separated or grazing).
-fn inside(classes: &[Class], q: &[ContactPattern]) -> bool {
-    classes.iter().zip(q).all(|(c, p)| match c {
-        Class::Contact => *p == ContactPattern::Contact,
-        Class::Free => true,
-        Class::Separated | Class::Grazing => *p != ContactPattern::Contact,
-    })
-}
 
 /// The image of a pattern (or of any per-node values) under the permutation `s`: node `s(i)`
 /// takes node `i`'s.
@@ -59,42 +38,6 @@ fn image<T: Clone>(s: &[usize], q: &[T]) -> Vec<T> {
         p[s[i]] = c.clone();
     }
     p
-}
-
-/// Adds to `found` the images of the patterns in the regions that the branchings `orbits`
-/// skipped (the involutions `symmetries`), and returns how many it added (patterns not found
-/// at a leaf; an image may repeat another, and `found` holds each pattern once). The images' witnesses are left to the
-/// finishing step ([`finish_by_orbits`]): in 3D it maps the witness of each orbit's least
-/// pattern, whose program is the one a leaf of that pattern asks, so a witness comes out the
-/// same whether its pattern was found or made (and the same as in a run without orbital
-/// branching, or one split into shards).
-pub(super) fn add_images(
-    symmetries: &[Vec<usize>],
-    mut orbits: Vec<Orbit>,
-    found: &mut Vec<Vec<ContactPattern>>,
-) -> u64 {
-    orbits.sort_by_key(|o| std::cmp::Reverse(o.depth));
-    let before = found.len();
-    for orbit in &orbits {
-        let mut new = Vec::new();
-        for q in found.iter() {
-            if q[orbit.branch] != ContactPattern::Contact || !inside(&orbit.classes, q) {
-                continue;
-            }
-            for &k in &orbit.symmetries {
-                let s = &symmetries[k];
-                if q[s[orbit.branch]] != ContactPattern::Contact {
-                    new.push(image(s, q));
-                }
-            }
-        }
-        found.extend(new);
-    }
-    if found.len() > before {
-        found.sort();
-        found.dedup();
-    }
-    (found.len() - before) as u64
 }
 
 /// The group that the problem's symmetries generate (each element a permutation of the nodes
@@ -165,6 +108,27 @@ impl Group {
         }
         let by = (0..self.elements.len()).find(|&k| image(&self.elements[k].0, &least) == q);
         (least, by)
+    }
+
+    /// Adds to `found` every image of its patterns under the group and leaves it sorted, each
+    /// pattern once; returns how many patterns that added (none without elements, `found`
+    /// then untouched). Realised patterns map to realised patterns, so what it adds is
+    /// realised: with orbital branching, the patterns of the regions the search skipped.
+    pub fn complete(&self, found: &mut Vec<Vec<ContactPattern>>) -> u64 {
+        if self.is_empty() {
+            return 0;
+        }
+        found.sort();
+        found.dedup();
+        let before = found.len();
+        let images: Vec<Vec<ContactPattern>> = found
+            .iter()
+            .flat_map(|q| self.elements.iter().map(move |(s, _)| image(s, q)))
+            .collect();
+        found.extend(images);
+        found.sort();
+        found.dedup();
+        (found.len() - before) as u64
     }
 
     /// The orbit of `q`: `q` and its images under every element, sorted, each once.
@@ -311,60 +275,33 @@ mod tests {
     }
 
     #[test]
-    fn images_of_the_contact_child_fill_the_skipped_region() {
-        // Four nodes, the symmetry swapping 0 with 1 and 2 with 3; the root branches on 0, so
-        // the region skipped is 0 separated with 1 in contact.
-        let orbits = vec![Orbit {
-            depth: 0,
-            classes: vec![Class::Free; 4],
-            branch: 0,
-            symmetries: vec![0],
-        }];
-        let mut found = vec![vec![C, S, G, C], vec![C, C, S, S], vec![S, S, C, S]];
-        let added = add_images(&[vec![1, 0, 3, 2]], orbits, &mut found);
-        // Only the first pattern has 0 in contact and 1 not: its image is added.
-        assert_eq!(added, 1);
-        assert_eq!(found.len(), 4);
-        assert!(found.contains(&vec![S, C, C, G]));
-    }
-
-    #[test]
-    fn deeper_branchings_are_mapped_first() {
-        // The root (depth 0) branched on 0 and, in its contact child, a node at depth 1 whose
-        // classes the same symmetry kept... cannot: 0 in contact and 1 free are not kept. A
-        // second symmetry (2 <-> 3 only) keeps them: its image must be made before the root's
-        // mapping, which then maps it too.
-        let both = vec![1, 0, 3, 2];
-        let low = vec![0, 1, 3, 2];
-        let mut contact_child = vec![Class::Free; 4];
-        contact_child[0] = Class::Contact;
-        let orbits = vec![
-            Orbit {
-                depth: 0,
-                classes: vec![Class::Free; 4],
-                branch: 0,
-                symmetries: vec![0],
-            },
-            Orbit {
-                depth: 1,
-                classes: contact_child,
-                branch: 2,
-                symmetries: vec![1],
-            },
+    fn the_group_completes_the_patterns_found() {
+        // Four nodes; the symmetries swap 0 with 1 and 2 with 3 (both at once, and 2 with 3
+        // alone), so the group has three elements besides the identity.
+        let both = (vec![1, 0, 3, 2], vec![1.0, -1.0, 1.0]);
+        let low = (vec![0, 1, 3, 2], vec![1.0, 1.0, -1.0]);
+        let group = Group::new(vec![both, low]);
+        let mut found = vec![vec![C, S, C, S], vec![C, C, G, S], vec![C, S, C, S]];
+        let added = group.complete(&mut found);
+        // C S C S: four patterns (C or S first, C or S third); C C G S: two (G third or fourth).
+        let mut want = vec![
+            vec![C, S, C, S],
+            vec![C, S, S, C],
+            vec![S, C, C, S],
+            vec![S, C, S, C],
+            vec![C, C, G, S],
+            vec![C, C, S, G],
         ];
-        let mut found = vec![vec![C, S, C, S]];
-        let added = add_images(&[both, low], orbits, &mut found);
-        found.sort();
-        assert_eq!(added, 3);
-        assert_eq!(
-            found,
-            vec![
-                vec![C, S, C, S],
-                vec![C, S, S, C],
-                vec![S, C, C, S],
-                vec![S, C, S, C]
-            ]
-        );
+        want.sort();
+        assert_eq!(found, want);
+        assert_eq!(added, 4);
+        // Complete already: nothing added, nothing changed.
+        assert_eq!(group.complete(&mut found), 0);
+        assert_eq!(found, want);
+        // No group: untouched, unsorted.
+        let mut few = vec![vec![S, C], vec![C, S], vec![S, C]];
+        assert_eq!(Group::default().complete(&mut few), 0);
+        assert_eq!(few, vec![vec![S, C], vec![C, S], vec![S, C]]);
     }
 
     /// The finishing step hands every answer on in the order of the pieces, across several
