@@ -354,6 +354,24 @@ impl Enumerated {
         )
     }
 
+    /// [`Enumerated::json`] written to `out` as it is made.
+    pub fn write_json(
+        &self,
+        problem: &Problem,
+        choice: &Choice,
+        model: Option<&Model>,
+        out: &mut dyn std::io::Write,
+    ) -> std::io::Result<()> {
+        crate::report::json::write_json(
+            problem,
+            choice,
+            &self.answer,
+            model,
+            self.certificate().as_ref(),
+            out,
+        )
+    }
+
     /// The internal failure that a failed exact certification is (the answer cannot be
     /// trusted), `None` when it passed or was not asked for.
     pub fn certification_failure(&self, source: &str) -> Option<Failure> {

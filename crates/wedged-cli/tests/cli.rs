@@ -408,6 +408,60 @@ fn inline_rows_give_the_known_rays() {
     assert_eq!(report["version"], env!("CARGO_PKG_VERSION"));
 }
 
+/// The path of an example problem file (`examples/NAME`).
+fn example_path(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+/// `value` without the entries that change from run to run (times and memory), recursively.
+fn without_timings(value: &Value) -> Value {
+    match value {
+        Value::Object(map) => Value::Object(
+            map.iter()
+                .filter(|(k, _)| !["seconds", "peak", "time"].iter().any(|w| k.contains(w)))
+                .map(|(k, v)| (k.clone(), without_timings(v)))
+                .collect(),
+        ),
+        Value::Array(items) => Value::Array(items.iter().map(without_timings).collect()),
+        other => other.clone(),
+    }
+}
+
+/// `--json FILE` is written as the document is made, `--json -` from its text: the same
+/// document (but its times), for a ray method (pieces from the cones) and a pattern method,
+/// 2D and 3D.
+#[test]
+fn a_json_file_holds_the_document_of_stdout() {
+    let dir = tempfile::tempdir().unwrap();
+    let runs: [(&str, &[&str]); 3] = [
+        (&fixture("coupled_array.toml"), &[]),
+        (&fixture("coupled_array.toml"), &["--method", "bnb"]),
+        (&example_path("plug3d.toml"), &[]),
+    ];
+    for (k, (file, extra)) in runs.iter().enumerate() {
+        let path = path_in(&dir, &format!("run{k}.json"));
+        let mut args = vec!["enumerate", file];
+        args.extend_from_slice(extra);
+        let mut to_file = args.clone();
+        to_file.extend(["--json", &path]);
+        assert_success(&wedged(&to_file));
+        args.extend(["--json", "-"]);
+        let stdout = json_stdout(&wedged(&args));
+        let written: Value = serde_json::from_str(&fs::read_to_string(&path).unwrap()).unwrap();
+        let pieces = written["patterns"].as_array().unwrap().len();
+        assert!(pieces > 0, "{file}: no pieces");
+        assert_eq!(
+            without_timings(&written),
+            without_timings(&stdout),
+            "{file} {extra:?}"
+        );
+    }
+}
+
 #[test]
 fn matrix_market_array_and_coordinate_agree() {
     let k = coupled_k();

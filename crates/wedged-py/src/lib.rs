@@ -360,7 +360,7 @@ impl EnumerationRun {
             "cone_status",
             statuses(report.cones.iter().map(|c| &c.status).collect()),
         )?;
-        let pieces = &report.patterns;
+        let pieces: Vec<_> = report.patterns.iter().collect();
         out.set_item(
             "pattern_pattern",
             statuses(pieces.iter().map(|p| &p.pattern).collect()),

@@ -163,7 +163,11 @@ pub(crate) fn report(
     }
     let answer = &run.answer;
     let certificate = run.certificate();
-    let json_text = json.as_ref().map(|_| run.json(problem, choice, model));
+    // A file is written as the document is made (below); only stdout's is held as text.
+    let json_text = match &json {
+        Some(JsonTarget::Stdout) => Some(run.json(problem, choice, model)),
+        _ => None,
+    };
     let incomplete = answer.stopped();
     let written = match model {
         Some(model) if (vtk.is_some() || svg.is_some()) && incomplete.is_none() => {
@@ -198,9 +202,9 @@ pub(crate) fn report(
             stdout_text.push_str(&summary::files(answer, vtk, svg, &written));
         }
     }
-    if let (Some(target @ JsonTarget::File { .. }), Some(text)) = (json, &json_text) {
+    if let Some(target @ JsonTarget::File { .. }) = json {
         target
-            .commit(text)
+            .commit_with(|out| run.write_json(problem, choice, model, out))
             .map_err(|e| Failure::Input(e.to_string()))?;
     }
     write_stdout(&stdout_text)?;

@@ -107,32 +107,30 @@ impl Answer {
 
     /// The convex pieces: a pattern run's maximal patterns, a ray run's cones (in cone order).
     pub fn pieces(&self) -> Vec<Piece> {
+        self.each_piece().collect()
+    }
+
+    /// [`Answer::pieces`] one at a time (each made when asked for: the JSON writes a run's
+    /// pieces without holding a copy of them all).
+    pub fn each_piece(&self) -> Box<dyn Iterator<Item = Piece> + '_> {
         match self {
-            Answer::Rays(e) => e
-                .cones
-                .iter()
-                .map(|cone| {
-                    let (u, r) = e.cone_centroid(cone);
-                    Piece {
-                        pattern: cone.pattern.clone(),
-                        status: e.cone_status(cone),
-                        u,
-                        r,
-                        margin: None,
-                    }
-                })
-                .collect(),
-            Answer::Patterns(p) => p
-                .patterns
-                .iter()
-                .map(|q| Piece {
-                    pattern: q.pattern.clone(),
-                    status: q.status.clone(),
-                    u: q.u.clone(),
-                    r: q.r.clone(),
-                    margin: Some(q.margin),
-                })
-                .collect(),
+            Answer::Rays(e) => Box::new(e.cones.iter().map(|cone| {
+                let (u, r) = e.cone_centroid(cone);
+                Piece {
+                    pattern: cone.pattern.clone(),
+                    status: e.cone_status(cone),
+                    u,
+                    r,
+                    margin: None,
+                }
+            })),
+            Answer::Patterns(p) => Box::new(p.patterns.iter().map(|q| Piece {
+                pattern: q.pattern.clone(),
+                status: q.status.clone(),
+                u: q.u.clone(),
+                r: q.r.clone(),
+                margin: Some(q.margin),
+            })),
         }
     }
 }

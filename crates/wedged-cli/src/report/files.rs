@@ -61,6 +61,15 @@ impl JsonTarget {
     /// Writes `text` to the temporary file and renames it over the destination. Stdout targets
     /// are written by the caller.
     pub fn commit(self, text: &str) -> Result<(), WriteError> {
+        self.commit_with(|out| out.write_all(text.as_bytes()))
+    }
+
+    /// As [`JsonTarget::commit`], the text written by `write` to a buffered writer on the
+    /// temporary file (a document written as it is made, never held whole).
+    pub fn commit_with(
+        self,
+        write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+    ) -> Result<(), WriteError> {
         let JsonTarget::File { path, mut temp } = self else {
             return Ok(());
         };
@@ -70,7 +79,10 @@ impl JsonTarget {
                 path.display()
             ))
         };
-        temp.write_all(text.as_bytes()).map_err(fail)?;
+        let mut out = io::BufWriter::new(&mut temp);
+        write(&mut out).map_err(fail)?;
+        out.flush().map_err(fail)?;
+        drop(out);
         temp.as_file().sync_all().map_err(fail)?;
         temp.persist(&path).map_err(|e| fail(e.error))?;
         Ok(())
