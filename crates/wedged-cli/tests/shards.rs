@@ -79,6 +79,19 @@ fn round_trip(problem: &str, method: &str, counts: &[usize]) {
         let out = merge(&parts, &merged);
         assert_code(&out, 0);
         assert!(text(&out.stdout).contains(&format!("merged {count} of {count} shards")));
+        // The merge copies each piece's text from its part: the pieces' lines are the whole
+        // run's, to the character.
+        let piece_lines = |path: &Path| -> Vec<String> {
+            std::fs::read_to_string(path)
+                .unwrap()
+                .lines()
+                .filter(|l| l.trim_start().starts_with("{\"pattern\""))
+                .map(|l| l.trim().trim_end_matches(',').to_string())
+                .collect()
+        };
+        let lines = piece_lines(&merged);
+        assert_eq!(lines.len(), whole["patterns"].as_array().unwrap().len());
+        assert_eq!(lines, piece_lines(&dir.path().join("whole.json")));
         let merged = json(&merged);
         assert_eq!(
             answer(merged.clone()),

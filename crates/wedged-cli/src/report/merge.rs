@@ -18,6 +18,12 @@
 //! `upper` with its witness, the least `lower` of the shards that found a leaf, `never` when
 //! none did.
 
+use std::fmt;
+
+use serde::de::{Deserializer, IgnoredAny, MapAccess, Visitor};
+use serde::ser::{SerializeMap, Serializer};
+use serde::{Deserialize, Serialize};
+use serde_json::value::RawValue;
 use serde_json::{Map, Value};
 use wedged::patterns::{check_shards, keep_maximal, missing_text};
 use wedged::{ContactPattern, Stop};
@@ -41,13 +47,81 @@ pub struct Part {
     pub text: String,
 }
 
-struct Read {
+struct Read<'a> {
     name: String,
+    /// The part's document, its `patterns` (if any) left as `null`: they are `pieces`.
     doc: Map<String, Value>,
+    /// The pieces as the part's text has them (a piece is written compact, as one run writes
+    /// it, so the merge copies its text: a part's pieces are most of it, and as values they
+    /// took some fifteen times its size).
+    pieces: Option<Vec<&'a RawValue>>,
     index: usize,
     count: usize,
     units: u64,
     depth: u64,
+}
+
+/// A document with its `patterns` skipped (left `null`), the other keys in order.
+struct WithoutPieces(Map<String, Value>);
+
+impl<'de> Deserialize<'de> for WithoutPieces {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Keys;
+        impl<'de> Visitor<'de> for Keys {
+            type Value = WithoutPieces;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("an object")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<WithoutPieces, A::Error> {
+                let mut doc = Map::new();
+                while let Some(key) = map.next_key::<String>()? {
+                    let value = if key == "patterns" {
+                        map.next_value::<IgnoredAny>()?;
+                        Value::Null
+                    } else {
+                        map.next_value::<Value>()?
+                    };
+                    doc.insert(key, value);
+                }
+                Ok(WithoutPieces(doc))
+            }
+        }
+        deserializer.deserialize_map(Keys)
+    }
+}
+
+/// A document's `patterns` as text (none: no such key).
+#[derive(Deserialize)]
+struct PiecesOf<'a> {
+    #[serde(borrow, default)]
+    patterns: Option<Vec<&'a RawValue>>,
+}
+
+/// A piece's `pattern`.
+#[derive(Deserialize)]
+struct PatternOf<'a> {
+    #[serde(borrow)]
+    pattern: Vec<&'a str>,
+}
+
+/// The merged document: `doc` with its `patterns` written from `pieces`' texts.
+struct Document<'a> {
+    doc: &'a Map<String, Value>,
+    pieces: &'a [&'a RawValue],
+}
+
+impl Serialize for Document<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let mut map = serializer.serialize_map(Some(self.doc.len()))?;
+        for (key, value) in self.doc {
+            if key == "patterns" {
+                map.serialize_entry(key, self.pieces)?;
+            } else {
+                map.serialize_entry(key, value)?;
+            }
+        }
+        map.end()
+    }
 }
 
 /// Merges the parts of one sharded run. An error (bad input) names the part at fault.
@@ -91,18 +165,22 @@ pub fn merge(parts: &[Part]) -> Result<Merged, String> {
     let count = first.count;
 
     // The pieces: the maximal patterns of the union, sorted by pattern.
-    let mut pieces: Vec<(Vec<ContactPattern>, Value)> = Vec::new();
+    let mut pieces: Vec<(Vec<ContactPattern>, &RawValue)> = Vec::new();
     for r in &read {
-        for piece in array(r, "patterns")? {
-            let names = piece["pattern"]
-                .as_array()
-                .ok_or_else(|| format!("{}: a piece without its \"pattern\" list", r.name))?;
+        let own = r
+            .pieces
+            .as_ref()
+            .ok_or_else(|| format!("{}: no \"patterns\" list", r.name))?;
+        for &piece in own {
+            let names = serde_json::from_str::<PatternOf>(piece.get())
+                .map_err(|_| format!("{}: a piece without its \"pattern\" list", r.name))?
+                .pattern;
             let pattern = names
                 .iter()
-                .map(|n| n.as_str().and_then(ContactPattern::from_name))
+                .map(|n| ContactPattern::from_name(n))
                 .collect::<Option<Vec<_>>>()
                 .ok_or_else(|| format!("{}: a pattern with an unknown entry", r.name))?;
-            pieces.push((pattern, piece.clone()));
+            pieces.push((pattern, piece));
         }
     }
     let keep = keep_maximal(&pieces.iter().map(|p| &p.0[..]).collect::<Vec<_>>());
@@ -167,10 +245,8 @@ pub fn merge(parts: &[Part]) -> Result<Merged, String> {
         all_true(&read, "certified_complete", &missing),
     );
     let n_pieces = pieces.len();
-    doc.insert(
-        "patterns".into(),
-        Value::Array(pieces.into_iter().map(|p| p.1).collect()),
-    );
+    let pieces: Vec<&RawValue> = pieces.into_iter().map(|p| p.1).collect();
+    doc.insert("patterns".into(), Value::Null);
     doc.insert("undecided".into(), Value::Array(undecided));
     doc.insert("info".into(), merged_info(&read)?);
     doc.remove("shard");
@@ -191,7 +267,10 @@ pub fn merge(parts: &[Part]) -> Result<Merged, String> {
         }
     );
     Ok(Merged {
-        json: layout(&Value::Object(doc)),
+        json: layout(&Document {
+            doc: &doc,
+            pieces: &pieces,
+        }),
         complete,
         summary,
     })
@@ -357,15 +436,22 @@ fn all_true(read: &[Read], key: &str, missing: &[usize]) -> Value {
     }
 }
 
-fn read(part: &Part) -> Result<Read, String> {
+fn read(part: &Part) -> Result<Read<'_>, String> {
     let name = part.name.clone();
-    let value: Value = serde_json::from_str(&part.text)
-        .map_err(|e| format!("{name}: not a JSON document of wedged ({e})"))?;
+    let value: Value = match serde_json::from_str::<WithoutPieces>(&part.text) {
+        Ok(WithoutPieces(doc)) => Value::Object(doc),
+        // Not an object (or not JSON): as a value, for the message.
+        Err(_) => serde_json::from_str(&part.text)
+            .map_err(|e| format!("{name}: not a JSON document of wedged ({e})"))?,
+    };
     let Value::Object(doc) = value else {
         return Err(format!(
             "{name}: not a JSON document of wedged (not an object)"
         ));
     };
+    let pieces = serde_json::from_str::<PiecesOf>(&part.text)
+        .map_err(|e| format!("{name}: not a JSON document of wedged ({e})"))?
+        .patterns;
     let shard = doc.get("shard").ok_or_else(|| {
         format!(
             "{name}: not a part of a sharded run (no \"shard\" key; parts are written by \
@@ -385,6 +471,7 @@ fn read(part: &Part) -> Result<Read, String> {
     Ok(Read {
         name,
         doc,
+        pieces,
         index,
         count,
         units,
