@@ -414,7 +414,7 @@ fn merge(parts: Vec<(String, String)>) -> PyResult<(String, bool, String)> {
         .map(|(name, text)| Part { name, text })
         .collect();
     let merged = wedged_cli::report::merge::merge(&parts).map_err(InputError::new_err)?;
-    Ok((merged.json, merged.complete, merged.summary))
+    Ok((merged.json(), merged.complete, merged.summary))
 }
 
 /// `critical(K, dim, method, time_limit, certify, tol, progress, rigid_modes, shard, start,

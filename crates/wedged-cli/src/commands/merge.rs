@@ -28,14 +28,14 @@ pub(crate) fn run_merge(args: MergeArgs) -> Result<(), Failure> {
         .collect::<Result<Vec<_>, _>>()?;
     let merged = merge(&parts).map_err(Failure::Input)?;
     match json {
-        Some(JsonTarget::Stdout) => write_stdout(&merged.json)?,
+        Some(JsonTarget::Stdout) => write_stdout(&merged.json())?,
         Some(target) => {
             let path = match &target {
                 JsonTarget::File { path, .. } => path.display().to_string(),
                 JsonTarget::Stdout => String::new(),
             };
             target
-                .commit(&merged.json)
+                .commit_with(|out| merged.write_json(out))
                 .map_err(|e| Failure::Input(e.to_string()))?;
             write_stdout(&format!("{}JSON written to {path}\n", merged.summary))?;
         }

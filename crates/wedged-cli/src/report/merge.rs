@@ -19,6 +19,7 @@
 //! none did.
 
 use std::fmt;
+use std::io::{self, Write};
 
 use serde::de::{Deserializer, IgnoredAny, MapAccess, Visitor};
 use serde::ser::{SerializeMap, Serializer};
@@ -28,13 +29,14 @@ use serde_json::{Map, Value};
 use wedged::patterns::{check_shards, keep_maximal, missing_text};
 use wedged::{ContactPattern, Stop};
 
-use crate::report::json::layout;
+use crate::report::json::{layout, layout_into};
 
-/// The merge of some parts.
+/// The merge of some parts (its pieces' texts borrowed from theirs).
 #[derive(Debug)]
-pub struct Merged {
-    /// The JSON text, as one run writes it (see the module docs).
-    pub json: String,
+pub struct Merged<'a> {
+    /// The merged document, its `patterns` (if any) written from `pieces`.
+    doc: Map<String, Value>,
+    pieces: Vec<&'a RawValue>,
     /// False when a shard is missing or a part is incomplete.
     pub complete: bool,
     /// A few lines for stdout.
@@ -125,7 +127,7 @@ impl Serialize for Document<'_> {
 }
 
 /// Merges the parts of one sharded run. An error (bad input) names the part at fault.
-pub fn merge(parts: &[Part]) -> Result<Merged, String> {
+pub fn merge(parts: &[Part]) -> Result<Merged<'_>, String> {
     if parts.is_empty() {
         return Err("no parts to merge".to_string());
     }
@@ -267,17 +269,34 @@ pub fn merge(parts: &[Part]) -> Result<Merged, String> {
         }
     );
     Ok(Merged {
-        json: layout(&Document {
-            doc: &doc,
-            pieces: &pieces,
-        }),
+        doc,
+        pieces,
         complete,
         summary,
     })
 }
 
+impl Merged<'_> {
+    /// The JSON text, as one run writes it (see the module docs).
+    pub fn json(&self) -> String {
+        layout(&self.document())
+    }
+
+    /// [`Merged::json`] written to `out` as it is made (a file's writer).
+    pub fn write_json(&self, out: &mut dyn Write) -> io::Result<()> {
+        layout_into(&self.document(), out)
+    }
+
+    fn document(&self) -> Document<'_> {
+        Document {
+            doc: &self.doc,
+            pieces: &self.pieces,
+        }
+    }
+}
+
 /// The parts of a sharded `critical` run (see the module docs).
-fn merge_critical(read: &[Read], missing: &[usize]) -> Result<Merged, String> {
+fn merge_critical<'a>(read: &[Read<'a>], missing: &[usize]) -> Result<Merged<'a>, String> {
     let first = &read[0];
     let count = first.count;
     let number = |v: &Value| v.as_f64();
@@ -417,7 +436,8 @@ fn merge_critical(read: &[Read], missing: &[usize]) -> Result<Merged, String> {
         }
     );
     Ok(Merged {
-        json: layout(&Value::Object(doc)),
+        doc,
+        pieces: Vec::new(),
         complete,
         summary,
     })
