@@ -4,18 +4,8 @@
 
 mod common;
 
-use std::path::Path;
-
-use common::{assert_bad_input, pattern_list, wedged};
+use common::{assert_bad_input, example, pattern_list, wedged};
 use serde_json::Value;
-
-fn example(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-        .display()
-        .to_string()
-}
 
 /// A run that exits 0 with `"certified": true` in the JSON on stdout.
 fn certified_json(args: &[&str]) -> Value {

@@ -1,5 +1,8 @@
 //! The `wedged` binary end to end: results, JSON, exit codes and one-line error messages.
 
+mod common;
+
+use common::{example, fixture};
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -12,14 +15,6 @@ fn wedged(args: &[&str]) -> Output {
         .args(args)
         .output()
         .expect("the binary runs")
-}
-
-fn fixture(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures")
-        .join(name)
-        .display()
-        .to_string()
 }
 
 fn stdout(out: &Output) -> String {
@@ -408,15 +403,6 @@ fn inline_rows_give_the_known_rays() {
     assert_eq!(report["version"], env!("CARGO_PKG_VERSION"));
 }
 
-/// The path of an example problem file (`examples/NAME`).
-fn example_path(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-        .display()
-        .to_string()
-}
-
 /// `value` without the entries that change from run to run (times and memory), recursively.
 fn without_timings(value: &Value) -> Value {
     match value {
@@ -440,7 +426,7 @@ fn a_json_file_holds_the_document_of_stdout() {
     let runs: [(&str, &[&str]); 3] = [
         (&fixture("coupled_array.toml"), &[]),
         (&fixture("coupled_array.toml"), &["--method", "bnb"]),
-        (&example_path("plug3d.toml"), &[]),
+        (&example("plug3d.toml"), &[]),
     ];
     for (k, (file, extra)) in runs.iter().enumerate() {
         let path = path_in(&dir, &format!("run{k}.json"));

@@ -8,12 +8,8 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{assert_code, text, wedged};
+use common::{assert_code, example, text, wedged};
 use serde_json::Value;
-
-fn example(name: &str) -> String {
-    format!("{}/../../examples/{name}", env!("CARGO_MANIFEST_DIR"))
-}
 
 /// The example plug with an `n x n` triangle mesh: `m = 2n` contact nodes.
 fn plug(dir: &Path, n: usize) -> PathBuf {

@@ -7,16 +7,8 @@ use std::fs;
 use std::path::Path;
 use std::process::Output;
 
-use common::{assert_bad_input, assert_success, printed_number, text, wedged};
+use common::{assert_bad_input, assert_success, fixture, printed_number, text, wedged};
 use serde_json::Value;
-
-fn fixture(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures")
-        .join(name)
-        .display()
-        .to_string()
-}
 
 const PLUG: &str = r#"
 mu = 2.0

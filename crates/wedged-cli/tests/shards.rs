@@ -9,12 +9,8 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{assert_bad_input, assert_code, text, wedged};
+use common::{assert_bad_input, assert_code, example, text, wedged};
 use serde_json::Value;
-
-fn example(name: &str) -> String {
-    format!("{}/../../examples/{name}", env!("CARGO_MANIFEST_DIR"))
-}
 
 fn json(path: &Path) -> Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()

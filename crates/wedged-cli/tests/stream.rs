@@ -8,12 +8,8 @@ mod common;
 
 use std::path::Path;
 
-use common::{assert_bad_input, assert_code, text, wedged};
+use common::{assert_bad_input, assert_code, example, text, wedged};
 use serde_json::Value;
-
-fn example(name: &str) -> String {
-    format!("{}/../../examples/{name}", env!("CARGO_MANIFEST_DIR"))
-}
 
 fn lines(path: &Path) -> Vec<Value> {
     std::fs::read_to_string(path)

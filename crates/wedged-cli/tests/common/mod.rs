@@ -5,6 +5,16 @@
 
 use std::process::{Command, Output};
 
+/// The path of an example problem file (`examples/NAME`).
+pub fn example(name: &str) -> String {
+    format!("{}/../../examples/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The path of a test fixture (`tests/fixtures/NAME`).
+pub fn fixture(name: &str) -> String {
+    format!("{}/tests/fixtures/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
 /// Runs `wedged` with `args`.
 pub fn wedged(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wedged"))
