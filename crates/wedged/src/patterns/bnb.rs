@@ -90,7 +90,7 @@ struct Search<'a, 'b> {
     symmetries: Vec<Vec<usize>>,
     /// The branchings that skipped a region.
     mirrored: AtomicU64,
-    /// The group by whose orbits the finishing step maps witnesses ([`orbits::Group::of`]),
+    /// The group by whose orbits the finishing step maps witnesses ([`Group::of`]),
     /// for the leaves ([`Search::leaf`]); empty in a certified run.
     group: Group,
     /// The leaves decided so far that are their orbits' least, by contact set (as a whole
