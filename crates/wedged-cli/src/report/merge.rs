@@ -107,17 +107,12 @@ struct PatternOf<'a> {
 }
 
 /// The merged document: `doc` with its `patterns` written from `pieces`' texts.
-struct Document<'a> {
-    doc: &'a Map<String, Value>,
-    pieces: &'a [&'a RawValue],
-}
-
-impl Serialize for Document<'_> {
+impl Serialize for Merged<'_> {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         let mut map = serializer.serialize_map(Some(self.doc.len()))?;
-        for (key, value) in self.doc {
+        for (key, value) in &self.doc {
             if key == "patterns" {
-                map.serialize_entry(key, self.pieces)?;
+                map.serialize_entry(key, &self.pieces)?;
             } else {
                 map.serialize_entry(key, value)?;
             }
@@ -279,19 +274,12 @@ pub fn merge(parts: &[Part]) -> Result<Merged<'_>, String> {
 impl Merged<'_> {
     /// The JSON text, as one run writes it (see the module docs).
     pub fn json(&self) -> String {
-        layout(&self.document())
+        layout(self)
     }
 
     /// [`Merged::json`] written to `out` as it is made (a file's writer).
     pub fn write_json(&self, out: &mut dyn Write) -> io::Result<()> {
-        layout_into(&self.document(), out)
-    }
-
-    fn document(&self) -> Document<'_> {
-        Document {
-            doc: &self.doc,
-            pieces: &self.pieces,
-        }
+        layout_into(self, out)
     }
 }
 
@@ -458,16 +446,16 @@ fn all_true(read: &[Read], key: &str, missing: &[usize]) -> Value {
 
 fn read(part: &Part) -> Result<Read<'_>, String> {
     let name = part.name.clone();
-    let value: Value = match serde_json::from_str::<WithoutPieces>(&part.text) {
-        Ok(WithoutPieces(doc)) => Value::Object(doc),
-        // Not an object (or not JSON): as a value, for the message.
-        Err(_) => serde_json::from_str(&part.text)
-            .map_err(|e| format!("{name}: not a JSON document of wedged ({e})"))?,
-    };
-    let Value::Object(doc) = value else {
-        return Err(format!(
-            "{name}: not a JSON document of wedged (not an object)"
-        ));
+    let doc = match serde_json::from_str::<WithoutPieces>(&part.text) {
+        Ok(WithoutPieces(doc)) => doc,
+        // Read again as any value, for the message: not JSON, or JSON but not an object.
+        Err(_) => {
+            serde_json::from_str::<Value>(&part.text)
+                .map_err(|e| format!("{name}: not a JSON document of wedged ({e})"))?;
+            return Err(format!(
+                "{name}: not a JSON document of wedged (not an object)"
+            ));
+        }
     };
     let pieces = serde_json::from_str::<PiecesOf>(&part.text)
         .map_err(|e| format!("{name}: not a JSON document of wedged ({e})"))?
