@@ -203,10 +203,7 @@ impl shard::Tree for Search<'_, '_> {
             }
             match self.leaf(&contact) {
                 Ok(Some(leaf)) => {
-                    if let Some(witness) = leaf.witness {
-                        let mut known = self.witnesses.lock().expect("no panics while held");
-                        known.insert(leaf.pattern.clone(), witness);
-                    }
+                    self.keep_witness(&leaf.pattern, leaf.witness);
                     self.realised.fetch_add(1, Ordering::Relaxed);
                     self.found
                         .lock()
@@ -436,16 +433,9 @@ impl Search<'_, '_> {
         let outcome = match known {
             Some(outcome) => outcome,
             None => {
-                let mine: Vec<bool> = least
-                    .iter()
-                    .map(|&c| c == ContactPattern::Contact)
-                    .collect();
-                let outcome = match leaf_pattern(self.form, &mine) {
+                let outcome = match leaf_pattern(self.form, &super::contact_set(&least)) {
                     Ok(Some(Leaf { pattern, witness })) => {
-                        if let Some(w) = witness {
-                            let mut known = self.witnesses.lock().expect("no panics while held");
-                            known.insert(pattern.clone(), w);
-                        }
+                        self.keep_witness(&pattern, witness);
                         Ok(Some(pattern))
                     }
                     Ok(None) => Ok(None),
@@ -466,6 +456,15 @@ impl Search<'_, '_> {
             },
             witness: None,
         }))
+    }
+
+    /// Keeps the witness a leaf's program made, if any, for the finishing step
+    /// ([`Found::witnesses`]).
+    fn keep_witness(&self, pattern: &[ContactPattern], witness: Option<Support>) {
+        if let Some(w) = witness {
+            let mut known = self.witnesses.lock().expect("no panics while held");
+            known.insert(pattern.to_vec(), w);
+        }
     }
 
     /// A streamed search's leaf ([`OrbitSink`]): the first leaf of an orbit (under
@@ -491,20 +490,14 @@ impl Search<'_, '_> {
         if by.is_some() {
             self.mapped.fetch_add(1, Ordering::Relaxed);
         }
-        let mine: Vec<bool> = least
-            .iter()
-            .map(|&c| c == ContactPattern::Contact)
-            .collect();
+        let mine = super::contact_set(&least);
         let state = match leaf_pattern(self.form, &mine) {
             Ok(Some(Leaf { pattern, witness })) => {
                 let members = self.orbit_group.orbit(&pattern);
                 let n = members.len() as u64;
                 self.realised.fetch_add(n, Ordering::Relaxed);
                 if pattern.contains(&ContactPattern::Grazing) {
-                    if let Some(w) = witness {
-                        let mut known = self.witnesses.lock().expect("no panics while held");
-                        known.insert(pattern, w);
-                    }
+                    self.keep_witness(&pattern, witness);
                     let mut found = self.found.lock().expect("no panics while held");
                     found.extend(members);
                     Orbited::Other

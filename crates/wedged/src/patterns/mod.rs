@@ -383,7 +383,7 @@ fn run(
         finish(&form, witness_lp.as_ref(), q, known).and_then(in_units)
     };
     let failed = |q: &[ContactPattern], reason: String| Undecided {
-        contact: q.iter().map(|&c| c == ContactPattern::Contact).collect(),
+        contact: contact_set(q),
         reason,
     };
     // pattern-search hands on each maximal pattern as it is found: kept for the finishing
@@ -687,6 +687,11 @@ fn finish(
         r,
         margin,
     })
+}
+
+/// The contact set of a pattern: its nodes in contact (the inverse of [`whole_pattern`]).
+pub(super) fn contact_set(q: &[ContactPattern]) -> Vec<bool> {
+    q.iter().map(|&c| c == ContactPattern::Contact).collect()
 }
 
 /// The pattern of a leaf whose contact set is `contact` when every node of it is pressed and

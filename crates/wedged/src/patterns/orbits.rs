@@ -121,13 +121,10 @@ impl Group {
         found.sort();
         found.dedup();
         let before = found.len();
-        let images: Vec<Vec<ContactPattern>> = found
-            .iter()
-            .flat_map(|q| self.elements.iter().map(move |(s, _)| image(s, q)))
-            .collect();
-        found.extend(images);
-        found.sort();
-        found.dedup();
+        let mut all: Vec<Vec<ContactPattern>> = found.iter().flat_map(|q| self.orbit(q)).collect();
+        all.sort();
+        all.dedup();
+        *found = all;
         (found.len() - before) as u64
     }
 

@@ -76,10 +76,7 @@ pub(super) fn run(
                 }
             }
             Err(reason) => found.undecided.push(Undecided {
-                contact: candidate
-                    .iter()
-                    .map(|&c| c == ContactPattern::Contact)
-                    .collect(),
+                contact: super::contact_set(&candidate),
                 reason,
             }),
         }
