@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{example, fixture};
+use common::{example, example_with, fixture};
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -65,27 +65,6 @@ fn dir_with(files: &[(&str, &str)]) -> tempfile::TempDir {
 
 fn path_in(dir: &tempfile::TempDir, name: &str) -> String {
     dir.path().join(name).display().to_string()
-}
-
-/// An example problem file (`examples/NAME`) with the lines of the given top-level or table
-/// keys set to the values given (`key = value`), the others as they are.
-fn example_with(name: &str, keys: &[(&str, String)]) -> String {
-    fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../examples")
-            .join(name),
-    )
-    .unwrap()
-    .lines()
-    .map(|l| {
-        let key = l.split(' ').next().unwrap_or("");
-        match keys.iter().find(|(k, _)| *k == key) {
-            Some((k, v)) => format!("{k} = {v}"),
-            None => l.to_string(),
-        }
-    })
-    .collect::<Vec<_>>()
-    .join("\n")
 }
 
 /// Runs `enumerate` on a problem file with the given text; returns the output and the file's path.

@@ -10,6 +10,23 @@ pub fn example(name: &str) -> String {
     format!("{}/../../examples/{name}", env!("CARGO_MANIFEST_DIR"))
 }
 
+/// An example problem file (`examples/NAME`) with the lines of the given top-level or table
+/// keys set to the values given (`key = value`), the others as they are.
+pub fn example_with(name: &str, keys: &[(&str, String)]) -> String {
+    std::fs::read_to_string(example(name))
+        .unwrap()
+        .lines()
+        .map(|l| {
+            let key = l.split(' ').next().unwrap_or("");
+            match keys.iter().find(|(k, _)| *k == key) {
+                Some((k, v)) => format!("{k} = {v}"),
+                None => l.to_string(),
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
 /// The path of a test fixture (`tests/fixtures/NAME`).
 pub fn fixture(name: &str) -> String {
     format!("{}/tests/fixtures/{name}", env!("CARGO_MANIFEST_DIR"))
